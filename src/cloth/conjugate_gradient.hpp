@@ -1,0 +1,65 @@
+#pragma once
+/// @file conjugate_gradient.hpp
+/// Preconditioned conjugate gradient with a constraint filter (Baraff and Witkin 1998, 5.3):
+/// every vector is multiplied by the filter S, so held axes of the solution stay exactly zero.
+
+#include <cmath>
+
+#include "cloth/types.hpp"
+
+namespace cloth {
+
+/// Outcome of one solve.
+struct CgResult {
+  int iterations = 0;
+  double relative_residual = 0;  // |S r| / |S b|
+};
+
+/// Work vectors, allocated once (each 3 by #P).
+struct CgWorkspace {
+  Matrix3X r, z, p, q;
+  void resize(Eigen::Index n) {
+    r.resize(3, n);
+    z.resize(3, n);
+    p.resize(3, n);
+    q.resize(3, n);
+  }
+};
+
+/// Solves S A S x = S b for symmetric positive definite A given as a product.
+/// @param apply     apply(u, out): out = A u, both 3 by #P
+/// @param b         3 by #P right-hand side
+/// @param inv_diag  3 by #P inverse of A's diagonal (Jacobi preconditioner)
+/// @param filter    3 by #P, 1 for free axes, 0 for held ones
+/// @param x         3 by #P solution, starts at zero
+template <class Apply>
+CgResult filtered_pcg(Apply&& apply, const Matrix3X& b, const Matrix3X& inv_diag,
+                      const Matrix3X& filter, Matrix3X& x, CgWorkspace& ws, double tolerance,
+                      int max_iterations) {
+  auto dot = [](const Matrix3X& a, const Matrix3X& c) { return (a.array() * c.array()).sum(); };
+  x.setZero();
+  ws.r = b.cwiseProduct(filter);
+  const double b_norm = std::sqrt(dot(ws.r, ws.r));
+  CgResult res;
+  if (b_norm == 0.0) return res;
+  ws.z = ws.r.cwiseProduct(inv_diag);
+  ws.p = ws.z;
+  double rz = dot(ws.r, ws.z);
+  for (int it = 0; it < max_iterations; ++it) {
+    apply(ws.p, ws.q);
+    ws.q.array() *= filter.array();
+    const double alpha = rz / dot(ws.p, ws.q);
+    x += alpha * ws.p;
+    ws.r -= alpha * ws.q;
+    res.iterations = it + 1;
+    res.relative_residual = std::sqrt(dot(ws.r, ws.r)) / b_norm;
+    if (res.relative_residual <= tolerance) break;
+    ws.z = ws.r.cwiseProduct(inv_diag);
+    const double rz_new = dot(ws.r, ws.z);
+    ws.p = ws.z + (rz_new / rz) * ws.p;
+    rz = rz_new;
+  }
+  return res;
+}
+
+}  // namespace cloth

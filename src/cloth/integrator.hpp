@@ -1,0 +1,33 @@
+#pragma once
+/// @file integrator.hpp
+/// The time integrators of the custom engine and their names (used in scenario files and CSV).
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace cloth {
+
+/// One name each, used everywhere.
+enum class Integrator {
+  explicit_euler,    ///< x += h v, v += h a, both from the old state
+  symplectic_euler,  ///< v += h a, then x += h v
+  picard_implicit,   ///< the report's "implicit Euler": one fixed-point pass from a predictor
+  midpoint,          ///< explicit midpoint (RK2)
+  rk4,               ///< classic fourth-order Runge-Kutta
+  implicit_euler     ///< backward Euler, Newton-linearised, filtered conjugate gradient
+};
+
+/// "explicit-euler", "symplectic-euler", "picard-implicit", "midpoint", "rk4", "implicit-euler".
+const char* integrator_name(Integrator i);
+/// The integrator with that name, if any.
+std::optional<Integrator> parse_integrator(std::string_view name);
+/// Every integrator, in the order above.
+const std::vector<Integrator>& all_integrators();
+/// Force evaluations per step of the explicit methods (implicit-euler: per Newton iteration).
+int force_evals_per_step(Integrator i);
+/// Order of accuracy of the method.
+int integrator_order(Integrator i);
+
+}  // namespace cloth

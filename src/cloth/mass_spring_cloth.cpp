@@ -1,0 +1,156 @@
+#include "cloth/mass_spring_cloth.hpp"
+
+#include "cloth/sphere_collision.hpp"
+#include "cloth/spring_forces.hpp"
+
+namespace cloth {
+
+MassSpringCloth::MassSpringCloth(const Scene& scene, const SolverOptions& options)
+    : m_model(build_model(scene)), m_options(options) {
+  const Eigen::Index n = m_model.particle_count();
+  m_x = m_model.x0;
+  m_v = Matrix3X::Zero(3, n);
+  for (Matrix3X* m :
+       {&m_force, &m_buf, &m_x1, &m_v1, &m_k1, &m_k2, &m_k3, &m_k4, &m_rhs, &m_dv, &m_diag, &m_tmp})
+    m->setZero(3, n);
+  if (options.integrator == Integrator::implicit_euler) m_cg.resize(n);
+}
+
+void MassSpringCloth::set_state(const Matrix3X& x, const Matrix3X& v) {
+  // held axes keep the initial position and zero velocity
+  const auto held = (1.0 - m_model.free.array());
+  m_x = (x.array() * m_model.free.array() + m_model.x0.array() * held).matrix();
+  m_v = v.cwiseProduct(m_model.free);
+}
+
+double MassSpringCloth::accelerations(const Matrix3X& x, const Matrix3X& v, Matrix3X& a) {
+  ++m_counters.force_evals;
+  m_force.setZero();
+  double power = add_spring_forces(m_model.springs, x, v, m_force, m_buf);
+  const double drag = m_model.air_drag;
+  if (drag != 0.0) {
+    m_force -= drag * v;
+    power += drag * v.squaredNorm();
+  }
+  // a = f / m + g on free axes only
+  for (int r = 0; r < 3; ++r) {
+    a.row(r) = (m_force.row(r).array() * m_model.inv_mass.transpose().array() + m_model.gravity[r])
+                   .matrix();
+  }
+  if (m_model.any_held) a.array() *= m_model.free.array();
+  return power;
+}
+
+void MassSpringCloth::step(double h) {
+  double dissipated = 0.0;
+  switch (m_options.integrator) {
+    case Integrator::explicit_euler: {
+      dissipated = h * accelerations(m_x, m_v, m_k1);
+      m_x += h * m_v;
+      m_v += h * m_k1;
+      break;
+    }
+    case Integrator::symplectic_euler: {
+      dissipated = h * accelerations(m_x, m_v, m_k1);
+      m_v += h * m_k1;
+      m_x += h * m_v;
+      break;
+    }
+    case Integrator::picard_implicit: {
+      // explicit predictor, then one evaluation at the predicted state
+      accelerations(m_x, m_v, m_k1);
+      m_x1 = m_x + h * m_v;
+      m_v1 = m_v + h * m_k1;
+      dissipated = h * accelerations(m_x1, m_v1, m_k2);
+      m_x += h * m_v1;
+      m_v += h * m_k2;
+      break;
+    }
+    case Integrator::midpoint: {
+      accelerations(m_x, m_v, m_k1);
+      m_x1 = m_x + (0.5 * h) * m_v;
+      m_v1 = m_v + (0.5 * h) * m_k1;
+      dissipated = h * accelerations(m_x1, m_v1, m_k2);
+      m_x += h * m_v1;
+      m_v += h * m_k2;
+      break;
+    }
+    case Integrator::rk4: {
+      // stage velocities are v, v + h/2 k1, v + h/2 k2, v + h k3 and k_i are the stage
+      // accelerations; m_tmp gathers the weighted sum of the stage velocities
+      const double p1 = accelerations(m_x, m_v, m_k1);
+      m_x1 = m_x + (0.5 * h) * m_v;
+      m_v1 = m_v + (0.5 * h) * m_k1;
+      m_tmp = m_v + 2.0 * m_v1;
+      const double p2 = accelerations(m_x1, m_v1, m_k2);
+      m_x1 = m_x + (0.5 * h) * m_v1;
+      m_v1 = m_v + (0.5 * h) * m_k2;
+      m_tmp += 2.0 * m_v1;
+      const double p3 = accelerations(m_x1, m_v1, m_k3);
+      m_x1 = m_x + h * m_v1;
+      m_v1 = m_v + h * m_k3;
+      m_tmp += m_v1;
+      const double p4 = accelerations(m_x1, m_v1, m_k4);
+      m_x += (h / 6.0) * m_tmp;
+      m_v += (h / 6.0) * (m_k1 + 2.0 * m_k2 + 2.0 * m_k3 + m_k4);
+      dissipated = h / 6.0 * (p1 + 2.0 * p2 + 2.0 * p3 + p4);
+      break;
+    }
+    case Integrator::implicit_euler: {
+      step_implicit_euler(h);
+      dissipated =
+          h * (damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
+      break;
+    }
+  }
+  m_t += h;
+  ++m_counters.steps;
+  m_dissipated += dissipated;
+  if (!m_model.spheres.empty())
+    m_dissipated +=
+        resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free);
+}
+
+void MassSpringCloth::step_implicit_euler(double h) {
+  // Newton on M (v1 - v0) = h f(x0 + h v1, v1), linearised at (xb, vb):
+  //   (M - h D - h^2 K) dv = h f(xb, vb) + h K (x0 + h vb - xb) - M (vb - v0).
+  // The first iteration linearises at (x0, v0): Baraff and Witkin's single solve.
+  const Model& m = m_model;
+  const double drag = m.air_drag;
+  m_x1 = m_x;  // xb
+  m_v1 = m_v;  // vb
+  for (int it = 0; it < m_options.newton_iterations; ++it) {
+    ++m_counters.newton_iterations;
+    ++m_counters.force_evals;
+    linearize_springs(m.springs, m_x1, m_options.clamp_compressed, m_lin);
+    // force at (xb, vb)
+    m_force.setZero();
+    add_spring_forces(m.springs, m_x1, m_v1, m_force, m_buf);
+    for (int r = 0; r < 3; ++r) m_force.row(r) += m.gravity[r] * m.mass.transpose();
+    if (drag != 0.0) m_force -= drag * m_v1;
+    // right-hand side
+    m_rhs = h * m_force;
+    // x0 + h vb - xb vanishes after the first iteration, where it is h v0
+    if (it == 0) add_jacobian_product(m.springs, m_lin, m_v, h * h, 0.0, m_rhs, m_buf);
+    for (int r = 0; r < 3; ++r)
+      m_rhs.row(r) -= (m_v1.row(r) - m_v.row(r)).cwiseProduct(m.mass.transpose());
+    // Jacobi preconditioner: inverse diagonal of A = M + h drag - h D - h^2 K
+    for (int r = 0; r < 3; ++r) m_diag.row(r) = m.mass.transpose().array() + h * drag;
+    add_jacobian_diagonal(m.springs, m_lin, -h * h, -h, m_diag, m_buf);
+    m_diag = m_diag.cwiseInverse();
+    auto apply = [&](const Matrix3X& u, Matrix3X& out) {
+      for (int r = 0; r < 3; ++r)
+        out.row(r) = u.row(r).cwiseProduct(m.mass.transpose()) + (h * drag) * u.row(r);
+      add_jacobian_product(m.springs, m_lin, u, -h * h, -h, out, m_buf);
+    };
+    const CgResult cg = filtered_pcg(apply, m_rhs, m_diag, m.free, m_dv, m_cg,
+                                     m_options.cg_tolerance, m_options.cg_max_iterations);
+    m_counters.cg_iterations += cg.iterations;
+    m_v1 += m_dv;
+    m_x1 = m_x + h * m_v1;
+  }
+  m_x = m_x1;
+  m_v = m_v1;
+}
+
+}  // namespace cloth

@@ -1,0 +1,67 @@
+#pragma once
+/// @file mass_spring_cloth.hpp
+/// The custom mass-spring cloth engine: the report's model with six integrators.
+
+#include "cloth/conjugate_gradient.hpp"
+#include "cloth/integrator.hpp"
+#include "cloth/model.hpp"
+#include "cloth/scene.hpp"
+#include "cloth/simulator.hpp"
+#include "cloth/spring_jacobians.hpp"
+#include "cloth/types.hpp"
+
+namespace cloth {
+
+/// Options of the custom engine.
+struct SolverOptions {
+  Integrator integrator = Integrator::rk4;
+  int newton_iterations = 1;     // implicit-euler: 1 is Baraff and Witkin's single linear solve
+  double cg_tolerance = 1e-8;    // implicit-euler: relative residual |S r| / |S b|
+  int cg_max_iterations = 2000;  // implicit-euler
+  bool clamp_compressed = true;  // implicit-euler: drop negative transverse stiffness
+};
+
+/// The custom engine. The state starts at rest in the scene's flat grid.
+class MassSpringCloth final : public Simulator {
+ public:
+  MassSpringCloth(const Scene& scene, const SolverOptions& options);
+
+  void step(double dt) override;
+  const Matrix3X& positions() const override { return m_x; }
+  const Matrix3X& velocities() const override { return m_v; }
+  double time() const override { return m_t; }
+  double dissipated() const override { return m_dissipated; }
+  Counters counters() const override { return m_counters; }
+
+  /// Replaces the state (tests start from chosen velocities). Held axes keep their values.
+  /// @param x  3 by #P positions (m)
+  /// @param v  3 by #P velocities (m/s)
+  void set_state(const Matrix3X& x, const Matrix3X& v);
+  const Model& model() const { return m_model; }
+  const SolverOptions& options() const { return m_options; }
+
+  /// Accelerations at state (x, v), held axes zeroed; counts one force evaluation.
+  /// @param a  3 by #P accelerations (m/s^2), written
+  /// @return power dissipated by dampers and drag at that state (W)
+  double accelerations(const Matrix3X& x, const Matrix3X& v, Matrix3X& a);
+
+ private:
+  void step_implicit_euler(double h);
+
+  Model m_model;
+  SolverOptions m_options;
+  Matrix3X m_x, m_v;
+  double m_t = 0;
+  double m_dissipated = 0;
+  Counters m_counters;
+
+  // scratch, sized once
+  Matrix3X m_force, m_buf;
+  Matrix3X m_x1, m_v1;                  // stage states
+  Matrix3X m_k1, m_k2, m_k3, m_k4;      // stage accelerations
+  Matrix3X m_rhs, m_dv, m_diag, m_tmp;  // implicit solve
+  SpringLinearization m_lin;
+  CgWorkspace m_cg;
+};
+
+}  // namespace cloth

@@ -1,0 +1,37 @@
+#pragma once
+/// @file model.hpp
+/// A scene turned into arrays: rest positions, masses, held axes, springs and obstacles.
+
+#include <vector>
+
+#include "cloth/scene.hpp"
+#include "cloth/spring_set.hpp"
+#include "cloth/types.hpp"
+
+namespace cloth {
+
+/// The discrete cloth every engine and every metric works from.
+struct Model {
+  int nu = 0;
+  int nv = 0;
+  Matrix3X x0;       // 3 by #P initial (rest) positions (m)
+  VectorX mass;      // #P particle masses (kg)
+  VectorX inv_mass;  // #P inverse masses (1/kg)
+  Matrix3X free;     // 3 by #P: 1 where the axis moves, 0 where it is held
+  bool any_held = false;
+  SpringSet springs;
+  Vector3 gravity = Vector3::Zero();  // m/s^2
+  double air_drag = 0;                // N s/m
+  std::vector<Sphere> spheres;
+
+  int particle_count() const { return static_cast<int>(mass.size()); }
+};
+
+/// Grid positions of the flat cloth described by c.
+/// @return 3 by #P positions (m)
+Matrix3X grid_positions(const ClothParams& c);
+
+/// Builds the model of a scene; throws std::invalid_argument for an impossible scene.
+Model build_model(const Scene& scene);
+
+}  // namespace cloth

@@ -1,0 +1,96 @@
+#include "cloth/spring_jacobians.hpp"
+
+#include <cmath>
+
+namespace cloth {
+
+void linearize_springs(const SpringSet& springs, const Matrix3X& x, bool clamp_compressed,
+                       SpringLinearization& lin) {
+  lin.dirs.resize(springs.families.size());
+  const double* __restrict X = x.row(0).data();
+  const double* __restrict Y = x.row(1).data();
+  const double* __restrict Z = x.row(2).data();
+  for (size_t fi = 0; fi < springs.families.size(); ++fi) {
+    const SpringFamily& fam = springs.families[fi];
+    const int o = fam.offset, m = fam.slots();
+    auto& L = lin.dirs[fi];
+    L.resize(4, m);
+    double* __restrict nx = L.row(0).data();
+    double* __restrict ny = L.row(1).data();
+    double* __restrict nz = L.row(2).data();
+    double* __restrict nb = L.row(3).data();
+    const double* __restrict mask = fam.mask.data();
+    const double* __restrict rest = fam.rest.data();
+    for (int p = 0; p < m; ++p) {
+      const double dx = X[p + o] - X[p], dy = Y[p + o] - Y[p], dz = Z[p + o] - Z[p];
+      const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const double il = 1.0 / (len + 1e-300);
+      // the mask zeroes the direction, so a slot without a spring adds nothing
+      nx[p] = mask[p] * dx * il;
+      ny[p] = mask[p] * dy * il;
+      nz[p] = mask[p] * dz * il;
+      const double b = 1.0 - rest[p] * il;
+      nb[p] = mask[p] * (clamp_compressed ? std::max(b, 0.0) : b);
+    }
+  }
+}
+
+void add_jacobian_product(const SpringSet& springs, const SpringLinearization& lin,
+                          const Matrix3X& u, double alpha, double beta, Matrix3X& y,
+                          Matrix3X& buf) {
+  const double c = springs.damping;
+  const double* __restrict U = u.row(0).data();
+  const double* __restrict V = u.row(1).data();
+  const double* __restrict W = u.row(2).data();
+  double* __restrict bx = buf.row(0).data();
+  double* __restrict by = buf.row(1).data();
+  double* __restrict bz = buf.row(2).data();
+  for (size_t fi = 0; fi < springs.families.size(); ++fi) {
+    const SpringFamily& fam = springs.families[fi];
+    const int o = fam.offset, m = fam.slots();
+    const auto& L = lin.dirs[fi];
+    const double* __restrict nx = L.row(0).data();
+    const double* __restrict ny = L.row(1).data();
+    const double* __restrict nz = L.row(2).data();
+    const double* __restrict nb = L.row(3).data();
+    const double ak = alpha * fam.stiffness;
+    // block times the relative vector w = u_q - u_p, for the anchor p
+    for (int p = 0; p < m; ++p) {
+      const double wx = U[p + o] - U[p], wy = V[p + o] - V[p], wz = W[p + o] - W[p];
+      const double dw = nx[p] * wx + ny[p] * wy + nz[p] * wz;
+      const double s1 = (ak * (1.0 - nb[p]) + beta * c) * dw;
+      // a slot without a spring has d^ = 0 and b = 0, so s2 vanishes there too
+      const double s2 = ak * nb[p];
+      bx[p] = s1 * nx[p] + s2 * wx;
+      by[p] = s1 * ny[p] + s2 * wy;
+      bz[p] = s1 * nz[p] + s2 * wz;
+    }
+    for (int r = 0; r < 3; ++r) {
+      y.row(r).head(m) += buf.row(r).head(m);
+      y.row(r).segment(o, m) -= buf.row(r).head(m);
+    }
+  }
+}
+
+void add_jacobian_diagonal(const SpringSet& springs, const SpringLinearization& lin, double alpha,
+                           double beta, Matrix3X& diag, Matrix3X& buf) {
+  const double c = springs.damping;
+  for (size_t fi = 0; fi < springs.families.size(); ++fi) {
+    const SpringFamily& fam = springs.families[fi];
+    const int o = fam.offset, m = fam.slots();
+    const auto& L = lin.dirs[fi];
+    const double ak = alpha * fam.stiffness;
+    // both ends of a spring see -J and -c d^ d^T on their diagonal block
+    for (int r = 0; r < 3; ++r) {
+      for (int p = 0; p < m; ++p) {
+        const double n2 = L(r, p) * L(r, p);
+        const double present = fam.mask[p];
+        buf(r, p) = -(ak * ((1.0 - L(3, p)) * n2 + L(3, p)) + beta * c * n2) * present;
+      }
+      diag.row(r).head(m) += buf.row(r).head(m);
+      diag.row(r).segment(o, m) += buf.row(r).head(m);
+    }
+  }
+}
+
+}  // namespace cloth

@@ -1,0 +1,50 @@
+#pragma once
+/// @file test_scenes.hpp
+/// Small scenes the physics tests share.
+
+#include "cloth/model.hpp"
+#include "cloth/scene.hpp"
+
+namespace clothbench::test {
+
+/// A soft n x n cloth, 1 m square, hanging from its two corners of edge v = 0, no contact.
+inline cloth::Scene small_cloth(int n = 5, double k = 20.0, double damping = 0.5) {
+  cloth::Scene s;
+  s.cloth.nu = n;
+  s.cloth.nv = n;
+  s.cloth.size_u = 1.0;
+  s.cloth.size_v = 1.0;
+  s.cloth.center = {0.0, 0.0, 0.0};
+  s.cloth.plane = cloth::Plane::xz;
+  s.cloth.particle_mass = 0.1;
+  s.cloth.k_structural = k;
+  s.cloth.k_shear = k;
+  s.cloth.k_bend = k;
+  s.cloth.damping = damping;
+  s.held.assign(static_cast<size_t>(n * n), 0);
+  s.held[0] = cloth::kHoldAll;
+  s.held[static_cast<size_t>(n - 1)] = cloth::kHoldAll;
+  return s;
+}
+
+/// A vertical chain of n free particles of mass m below a pinned one, springs k, spacing l.
+inline cloth::Scene chain(int n, double m, double k, double l, double damping, double g) {
+  cloth::Scene s;
+  s.cloth.nu = 1;
+  s.cloth.nv = n + 1;
+  s.cloth.size_u = 0.0;
+  s.cloth.size_v = n * l;
+  s.cloth.center = {0.0, 0.0, 0.0};
+  s.cloth.plane = cloth::Plane::xy;
+  s.cloth.particle_mass = m;
+  s.cloth.k_structural = k;
+  s.cloth.k_shear = 0.0;
+  s.cloth.k_bend = 0.0;
+  s.cloth.damping = damping;
+  s.gravity = {0.0, -g, 0.0};
+  s.held.assign(static_cast<size_t>(n + 1), 0);
+  s.held[static_cast<size_t>(n)] = cloth::kHoldAll;  // the top particle, j = nv - 1
+  return s;
+}
+
+}  // namespace clothbench::test

@@ -1,0 +1,26 @@
+#pragma once
+/// @file tolerances.hpp
+/// Every tolerance the tests use, with where it comes from.
+
+namespace clothbench::tol {
+
+/// Internal forces cancel to round-off: sums of O(1e3) N forces in doubles.
+constexpr double kForceBalance = 1e-8;  // N (and N m for torque)
+/// Central differences with step 1e-6 m have truncation error O(step^2 k) and round-off
+/// O(eps k l / step); for k ~ 1e3 N/m both are well below 1e-4 of the entries.
+constexpr double kJacobianRelative = 1e-5;
+/// Free fall with midpoint and rk4 is exact up to round-off accumulated over ~1e3 steps.
+constexpr double kFreeFallExact = 1e-9;  // m
+/// The Euler offsets +-g h t / 2 are exact too; round-off as above.
+constexpr double kFreeFallOffset = 1e-9;  // m
+/// The requirement for the chain's eigenfrequency.
+constexpr double kEigenfrequencyRelative = 0.01;
+/// Settled chain: the remaining motion after damping decays below this fraction of a stretch.
+constexpr double kStaticStretchRelative = 1e-4;
+/// Fitted convergence orders: within 0.25 of the theoretical order (the fit is over a
+/// halving sequence still slightly outside the asymptotic range for the first point).
+constexpr double kOrderMargin = 0.25;
+/// A particle ends a step on the contact shell; round-off in the projection only.
+constexpr double kContactShell = 1e-12;  // m
+
+}  // namespace clothbench::tol
