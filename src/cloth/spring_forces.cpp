@@ -105,3 +105,33 @@ StrainStats strain_stats(const SpringSet& springs, const Matrix3X& x) {
 }
 
 }  // namespace cloth
+
+namespace cloth {
+
+bool within_strain(const SpringSet& springs, const Matrix3X& x, double limit) {
+  // |d| / l0 - 1 in [-limit, limit]  <=>  (1 - limit)^2 l0^2 <= |d|^2 <= (1 + limit)^2 l0^2;
+  // written so that a NaN fails the test
+  const double hi = (1.0 + limit) * (1.0 + limit);
+  const double lo = limit < 1.0 ? (1.0 - limit) * (1.0 - limit) : 0.0;
+  const double* __restrict X = x.row(0).data();
+  const double* __restrict Y = x.row(1).data();
+  const double* __restrict Z = x.row(2).data();
+  int bad = 0;
+  for (const SpringFamily& fam : springs.families) {
+    const int o = fam.offset, m = fam.slots();
+    const double* __restrict mask = fam.mask.data();
+    const double* __restrict rest = fam.rest.data();
+#pragma omp simd reduction(+ : bad)
+    for (int p = 0; p < m; ++p) {
+      const double dx = X[p + o] - X[p], dy = Y[p + o] - Y[p], dz = Z[p + o] - Z[p];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      const double r2 = rest[p] * rest[p];
+      const bool ok = (d2 <= hi * r2) && (d2 >= lo * r2);
+      bad += (mask[p] != 0.0 && !ok) ? 1 : 0;
+    }
+  }
+  // a single particle without springs is checked for finiteness directly
+  return bad == 0 && x.allFinite();
+}
+
+}  // namespace cloth

@@ -36,3 +36,12 @@ struct StrainStats {
 StrainStats strain_stats(const SpringSet& springs, const Matrix3X& x);
 
 }  // namespace cloth
+
+namespace cloth {
+
+/// True when every coordinate is finite and every spring's |strain| is at most limit.
+/// Cheap enough to run every step: squared lengths only, no square root or division.
+/// @param x  3 by #P positions (m)
+bool within_strain(const SpringSet& springs, const Matrix3X& x, double limit);
+
+}  // namespace cloth

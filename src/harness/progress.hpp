@@ -1,0 +1,33 @@
+#pragma once
+/// @file progress.hpp
+/// Progress on stderr: a live bar (done / total, rate, ETA) when stderr is a terminal,
+/// otherwise nothing but the lines the caller prints.
+
+#include <chrono>
+#include <string>
+
+namespace clothbench {
+
+/// One bar for a piece of long work measured in units (steps, runs).
+class Progress {
+ public:
+  /// @param total  units of the whole job
+  /// @param unit   name of a unit, for the rate ("steps", "runs")
+  /// @param enabled  false: never print (tests, --quiet)
+  Progress(double total, std::string unit, bool enabled = true);
+  ~Progress();
+  /// Adds done units and redraws at most ten times a second; label says what runs now.
+  void advance(double done, const std::string& label);
+  /// A line of its own (kept above the bar); printed whether or not stderr is a terminal.
+  void line(const std::string& text);
+  bool live() const { return m_live; }
+
+ private:
+  void draw(bool force);
+  double m_total, m_done = 0;
+  std::string m_unit, m_label;
+  bool m_enabled, m_live;
+  std::chrono::steady_clock::time_point m_start, m_last_draw;
+};
+
+}  // namespace clothbench

@@ -1,0 +1,242 @@
+#include "harness/runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <ctime>
+#include <sstream>
+#include <stdexcept>
+
+#include "cloth/energies.hpp"
+#include "cloth/spring_forces.hpp"
+#include "harness/build_info.hpp"
+#include "harness/csv_writer.hpp"
+#include "harness/engine_factory.hpp"
+#include "harness/scenario_loader.hpp"
+
+namespace clothbench {
+
+std::atomic<bool>& interrupt_requested() {
+  static std::atomic<bool> flag{false};
+  return flag;
+}
+
+long long planned_steps(const Scenario& sc, const EngineSpec& spec) {
+  return std::llround(sc.duration / spec.dt);
+}
+
+EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
+                     Progress* progress, bool keep_positions) {
+  EngineRun run;
+  run.spec = spec;
+  auto sim = make_engine(spec, sc.scene);
+  const long long steps_per_frame = std::llround(sc.frame_interval / spec.dt);
+  const long long frames = std::llround(sc.duration / sc.frame_interval);
+  const long long frames_per_snapshot =
+      sc.snapshot_interval > 0 ? std::llround(sc.snapshot_interval / sc.frame_interval) : 0;
+  const double e0 = cloth::compute_energies(model, sim->positions(), sim->velocities()).total();
+
+  // frames sit on the exact grid k * frame_interval; a blow-up row at the failing step's time
+  auto log_frame = [&](long long frame, bool stable) {
+    const double t = stable ? double(frame) * sc.frame_interval : sim->time();
+    FrameMetrics m =
+        frame_metrics(model, t, sim->positions(), sim->velocities(), sim->dissipated(), e0);
+    m.stable = stable;
+    if (stable) run.max_energy_error = std::max(run.max_energy_error, std::abs(m.energy_error));
+    run.frames.push_back(m);
+    if (keep_positions) run.positions.push_back(sim->positions());
+  };
+  auto snapshot = [&]() {
+    run.snapshot_times.push_back(run.frames.back().t);
+    run.snapshots.push_back(sim->positions());
+  };
+
+  log_frame(0, true);
+  snapshot();
+  for (long long f = 1; f <= frames && run.stable; ++f) {
+    if (interrupt_requested()) throw Interrupted();
+    for (long long s = 0; s < steps_per_frame; ++s) {
+      const auto t0 = std::chrono::steady_clock::now();
+      sim->step(spec.dt);
+      run.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (!cloth::within_strain(model.springs, sim->positions(), sc.blowup_strain)) {
+        run.stable = false;
+        run.blowup_t = sim->time();
+        break;
+      }
+    }
+    log_frame(f, run.stable);
+    if (progress) progress->advance(double(steps_per_frame), spec.name);
+    const bool last = f == frames || !run.stable;
+    if (last || (frames_per_snapshot > 0 && f % frames_per_snapshot == 0)) snapshot();
+  }
+  run.counters = sim->counters();
+  return run;
+}
+
+RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
+  RunResult result;
+  result.scenario = sc;
+  result.model = cloth::build_model(sc.scene);
+  const int ref = sc.reference_index();
+  // which engines run: the filter, plus the reference
+  std::vector<int> chosen;
+  for (const std::string& name : options.engines) {
+    auto it = std::find_if(sc.engines.begin(), sc.engines.end(),
+                           [&](const EngineSpec& e) { return e.name == name; });
+    if (it == sc.engines.end()) {
+      std::string known;
+      for (const EngineSpec& e : sc.engines) known += (known.empty() ? "" : ", ") + e.name;
+      throw std::invalid_argument("--engine " + name + ": no such engine in " + sc.source +
+                                  " (engines: " + known + ")");
+    }
+  }
+  for (int i = 0; i < static_cast<int>(sc.engines.size()); ++i) {
+    const bool wanted = options.engines.empty() || i == ref ||
+                        std::count(options.engines.begin(), options.engines.end(),
+                                   sc.engines[static_cast<size_t>(i)].name) > 0;
+    if (wanted) chosen.push_back(i);
+  }
+  // build every engine once before any work, so a scene an engine refuses fails early
+  for (int i : chosen) make_engine(sc.engines[static_cast<size_t>(i)], sc.scene);
+
+  double total_steps = 0;
+  for (int i : chosen) total_steps += double(planned_steps(sc, sc.engines[static_cast<size_t>(i)]));
+  Progress progress(total_steps, "steps", options.progress);
+  for (int i : chosen) {
+    const EngineSpec& spec = sc.engines[static_cast<size_t>(i)];
+    if (i == ref) result.reference = static_cast<int>(result.runs.size());
+    EngineRun run = run_engine(sc, spec, result.model, &progress, options.keep_positions);
+    std::ostringstream msg;
+    msg << spec.name << ": " << run.counters.steps << " steps of " << spec.dt << " s in "
+        << format_double(std::round(run.wall_s * 1000) / 1000) << " s ("
+        << std::llround(run.counters.steps / std::max(run.wall_s, 1e-9)) << " steps/s), "
+        << (run.stable ? std::string("stable")
+                       : "unstable at t = " + format_double(run.blowup_t) + " s");
+    progress.line(msg.str());
+    result.runs.push_back(std::move(run));
+  }
+  // divergence of every engine from the reference, frame by frame while both ran
+  const EngineRun& r = result.runs[static_cast<size_t>(result.reference)];
+  for (const EngineRun& run : result.runs) {
+    std::vector<Divergence> d;
+    const size_t n =
+        std::min({run.frames.size(), r.frames.size(), run.positions.size(), r.positions.size()});
+    for (size_t k = 0; k < n; ++k) {
+      // an unstable last frame sits at the blow-up time, not on the common frame grid
+      if (!run.frames[k].stable || !r.frames[k].stable) break;
+      d.push_back(divergence(run.positions[k], run.frames[k], r.positions[k], r.frames[k]));
+    }
+    result.divergence.push_back(std::move(d));
+  }
+  return result;
+}
+
+double final_drape_coefficient(const RunResult& result, const EngineRun& run) {
+  std::vector<double> disks;
+  for (const ConstraintSpec& c : result.scenario.constraints)
+    if (c.select == "disk") disks.push_back(c.disk_radius);
+  const double support = support_area(disks, result.scenario.scene.spheres);
+  const cloth::ClothParams& c = result.scenario.scene.cloth;
+  const double cloth_area = c.size_u * c.size_v;
+  if (support <= 0 || cloth_area <= support || run.frames.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  return drape_coefficient(run.frames.back().shadow_area, support, cloth_area);
+}
+
+std::string run_info_json() {
+  char date[32];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  std::ostringstream o;
+  o << "{\n  \"tool\": \"clothbench\",\n  \"version\": \"" << kVersion << "\",\n"
+    << "  \"git_commit\": \"" << kGitCommit << "\",\n  \"compiler\": \"" << kCompiler
+    << "\",\n  \"date\": \"" << date << "\"\n}\n";
+  return o.str();
+}
+
+void write_run(const RunResult& result, const std::string& dir) {
+  make_directories(dir);
+  const std::string ref_name = result.runs[static_cast<size_t>(result.reference)].spec.name;
+  CsvWriter frames(
+      dir + "/frames.csv",
+      {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
+       "total_energy", "energy_error", "max_strain", "mean_strain", "com_x", "com_y", "com_z",
+       "min_y", "max_penetration", "shadow_area", "stable"});
+  for (const EngineRun& run : result.runs)
+    for (const FrameMetrics& m : run.frames) {
+      frames.add(run.spec.name).add(m.t).add(m.kinetic).add(m.gravity_potential);
+      frames.add(m.elastic_potential).add(m.dissipated).add(m.total_energy).add(m.energy_error);
+      frames.add(m.max_strain).add(m.mean_strain).add(m.com.x()).add(m.com.y()).add(m.com.z());
+      frames.add(m.min_y).add(m.max_penetration).add(m.shadow_area).add(m.stable ? 1 : 0);
+      frames.end_row();
+    }
+  CsvWriter div(dir + "/divergence.csv",
+                {"engine", "reference", "t", "rms_distance", "max_distance", "com_distance",
+                 "energy_difference", "shadow_area_difference"});
+  for (size_t i = 0; i < result.runs.size(); ++i) {
+    if (static_cast<int>(i) == result.reference) continue;
+    for (const Divergence& d : result.divergence[i]) {
+      div.add(result.runs[i].spec.name).add(ref_name).add(d.t).add(d.rms_distance);
+      div.add(d.max_distance).add(d.com_distance).add(d.energy_difference);
+      div.add(d.shadow_area_difference).end_row();
+    }
+  }
+  CsvWriter snaps(dir + "/snapshots.csv", {"engine", "t", "i", "j", "x", "y", "z"});
+  const int nu = result.model.nu;
+  for (const EngineRun& run : result.runs)
+    for (size_t s = 0; s < run.snapshots.size(); ++s)
+      for (Eigen::Index p = 0; p < run.snapshots[s].cols(); ++p) {
+        snaps.add(run.spec.name).add(run.snapshot_times[s]);
+        snaps.add(static_cast<int>(p % nu)).add(static_cast<int>(p / nu));
+        snaps.add(run.snapshots[s](0, p)).add(run.snapshots[s](1, p)).add(run.snapshots[s](2, p));
+        snaps.end_row();
+      }
+  CsvWriter summary(dir + "/summary.csv",
+                    {"engine", "kind", "integrator", "dt", "steps", "wall_s", "us_per_step",
+                     "force_evals", "stable", "blowup_t", "max_energy_error",
+                     "final_rms_vs_reference", "max_rms_vs_reference", "drape_coefficient"});
+  for (size_t i = 0; i < result.runs.size(); ++i) {
+    const EngineRun& run = result.runs[i];
+    const std::vector<Divergence>& d = result.divergence[i];
+    summary.add(run.spec.name).add(run.spec.kind);
+    if (run.spec.kind == "custom")
+      summary.add(std::string(cloth::integrator_name(run.spec.solver.integrator)));
+    else
+      summary.skip();
+    summary.add(run.spec.dt).add(static_cast<long long>(run.counters.steps)).add(run.wall_s);
+    summary.add(run.counters.steps > 0 ? 1e6 * run.wall_s / double(run.counters.steps) : 0.0);
+    summary.add(static_cast<long long>(run.counters.force_evals)).add(run.stable ? 1 : 0);
+    if (run.stable)
+      summary.skip();
+    else
+      summary.add(run.blowup_t);
+    summary.add(run.max_energy_error);
+    if (d.empty()) {
+      summary.skip().skip();
+    } else {
+      double worst = 0;
+      for (const Divergence& x : d) worst = std::max(worst, x.rms_distance);
+      summary.add(d.back().rms_distance).add(worst);
+    }
+    const double dc = final_drape_coefficient(result, run);
+    if (std::isnan(dc))
+      summary.skip();
+    else
+      summary.add(dc);
+    summary.end_row();
+  }
+  AtomicFile toml(dir + "/scenario.toml");
+  toml.write(scenario_to_toml(result.scenario));
+  AtomicFile info(dir + "/run.json");
+  info.write(run_info_json());
+  // every file is complete: make them all appear
+  frames.commit();
+  div.commit();
+  snaps.commit();
+  summary.commit();
+  toml.commit();
+  info.commit();
+}
+
+}  // namespace clothbench

@@ -1,0 +1,79 @@
+#pragma once
+/// @file runner.hpp
+/// Runs every engine of a scenario on exactly its scene and writes the CSV files.
+
+#include <atomic>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "cloth/model.hpp"
+#include "cloth/simulator.hpp"
+#include "harness/metrics.hpp"
+#include "harness/progress.hpp"
+#include "harness/scenario.hpp"
+
+namespace clothbench {
+
+/// What one engine did over the scenario.
+struct EngineRun {
+  EngineSpec spec;
+  std::vector<FrameMetrics> frames;        // one per logged frame, the last one unstable
+                                           // when the run blew up
+  std::vector<cloth::Matrix3X> positions;  // 3 by #P per frame (when kept)
+  std::vector<double> snapshot_times;      // s
+  std::vector<cloth::Matrix3X> snapshots;  // 3 by #P at those times
+  cloth::Counters counters;
+  double wall_s = 0;  // s spent in step() alone
+  bool stable = true;
+  double blowup_t = std::numeric_limits<double>::quiet_NaN();  // s, first unstable step
+  double max_energy_error = 0;  // J, largest |energy_error| while stable
+};
+
+/// Run-wide options.
+struct RunOptions {
+  std::vector<std::string> engines;  // names to run; empty: all (the reference always runs)
+  bool progress = true;              // progress on stderr
+  bool keep_positions = true;        // keep every frame's positions (for divergence)
+};
+
+/// All engines of one scenario, and their divergence from the reference.
+struct RunResult {
+  Scenario scenario;
+  cloth::Model model;  // the scene every metric is measured in
+  std::vector<EngineRun> runs;
+  int reference = 0;                                // index into runs
+  std::vector<std::vector<Divergence>> divergence;  // per run, per common frame
+};
+
+/// Set from a signal handler to stop a run at the next frame (Interrupted is thrown).
+std::atomic<bool>& interrupt_requested();
+
+/// Thrown when interrupt_requested() stops a run.
+struct Interrupted : std::runtime_error {
+  Interrupted() : std::runtime_error("interrupted") {}
+};
+
+/// Runs one engine of sc over the scenario's duration, logging a frame every frame_interval.
+/// Stops at the first step where a coordinate is not finite or |strain| > blowup_strain.
+EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
+                     Progress* progress, bool keep_positions);
+
+/// Runs the scenario's engines (all engines are built first, so a bad one fails before any
+/// work). Throws std::invalid_argument for an engine filter naming no engine.
+RunResult run_scenario(const Scenario& sc, const RunOptions& options);
+
+/// Writes frames.csv, divergence.csv, snapshots.csv, summary.csv, scenario.toml and run.json
+/// into dir (created if needed), each file atomically.
+void write_run(const RunResult& result, const std::string& dir);
+
+/// Total steps of one engine over the scenario (for progress).
+long long planned_steps(const Scenario& sc, const EngineSpec& spec);
+
+/// Drape coefficient of the final frame of run, NaN when the scene has no support.
+double final_drape_coefficient(const RunResult& result, const EngineRun& run);
+
+/// Contents of run.json: tool version, git commit, compiler, date.
+std::string run_info_json();
+
+}  // namespace clothbench

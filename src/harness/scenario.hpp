@@ -1,0 +1,67 @@
+#pragma once
+/// @file scenario.hpp
+/// A scenario: one physical scene, how long and how often to log it, and the engines to run.
+/// Filled by scenario_loader from a TOML file; read by the runner and the engine factory.
+
+#include <string>
+#include <vector>
+
+#include "cloth/mass_spring_cloth.hpp"
+#include "cloth/scene.hpp"
+
+namespace clothbench {
+
+/// Which particles a constraint holds.
+struct ConstraintSpec {
+  std::string select =
+      "corners";  // corners | edge:u0 | edge:u1 | edge:v0 | edge:v1 | disk | indices
+  std::uint8_t hold = cloth::kHoldAll;       // held axes (cloth::AxisBits)
+  double disk_center_x = 0.0;                // m, select = "disk": centre in the cloth plane's
+  double disk_center_z = 0.0;                // m   first and second world axes (x, z) or (x, y)
+  double disk_radius = 0.0;                  // m
+  std::vector<std::pair<int, int>> indices;  // select = "indices": (i, j) pairs
+};
+
+/// Options of the Bullet engines (ignored by the custom one).
+struct BulletOptions {
+  bool implicit = false;              // bullet-deformable: backward Euler instead of explicit
+  bool line_search = false;           // bullet-deformable, implicit: Newton line search
+  bool projection = true;             // bullet-deformable, implicit: contact projection
+  std::string stiffness = "matched";  // bullet-softbody: "matched" (from k) or "klst"
+  double klst = 1.0;                  // bullet-softbody: link stiffness in [0, 1] when "klst"
+  int iterations = 10;                // bullet-softbody: position-solver iterations
+};
+
+/// One engine of a scenario.
+struct EngineSpec {
+  std::string name;             // unique within the scenario
+  std::string kind = "custom";  // custom | bullet-deformable | bullet-softbody
+  double dt = 1e-3;             // s
+  cloth::SolverOptions solver;  // kind = custom
+  BulletOptions bullet;         // kind = bullet-*
+};
+
+/// Everything a run needs; every key of the scenario file has a field here.
+struct Scenario {
+  std::string name = "scenario";
+  std::string description;
+  std::string source;              // file it came from, or "<embedded>"
+  double duration = 1.0;           // s
+  double frame_interval = 0.01;    // s between metric rows
+  double snapshot_interval = 0.0;  // s between full-shape snapshots; 0: final shape only
+  double blowup_strain = 1.0;      // a run is unstable once |strain| exceeds this
+  std::string reference;           // engine the others are compared against ("" = the first)
+  cloth::Scene scene;              // scene.held is filled from constraints
+  std::vector<ConstraintSpec> constraints;
+  std::vector<EngineSpec> engines;
+
+  /// The reference engine's index in engines.
+  int reference_index() const;
+};
+
+/// Held-axis mask (#P entries) of the constraints on the cloth of scene.
+/// Throws std::invalid_argument for a selection outside the grid.
+std::vector<std::uint8_t> held_mask(const cloth::ClothParams& cloth,
+                                    const std::vector<ConstraintSpec>& constraints);
+
+}  // namespace clothbench

@@ -1,0 +1,96 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "cloth/linear_stability.hpp"
+#include "cloth/model.hpp"
+
+using namespace cloth;
+
+namespace {
+
+// one free particle of mass m on a spring k (damper c) to a pinned one
+Model two_particles(double m, double k, double c) {
+  Scene s;
+  s.cloth.nu = 2;
+  s.cloth.nv = 1;
+  s.cloth.size_u = 0.5;
+  s.cloth.particle_mass = m;
+  s.cloth.k_structural = k;
+  s.cloth.k_shear = s.cloth.k_bend = 0.0;
+  s.cloth.damping = c;
+  s.gravity.setZero();
+  s.held = {kHoldAll, 0};
+  return build_model(s);
+}
+
+}  // namespace
+
+TEST_CASE("the spectrum of one spring is k / m with damping c / k", "[integrator][stability]") {
+  const LinearSpectrum s = linear_spectrum(two_particles(0.5, 200.0, 3.0));
+  CHECK(s.omega_max == Approx(std::sqrt(200.0 / 0.5)).epsilon(1e-10));
+  CHECK(s.beta == Approx(3.0 / 200.0).epsilon(1e-12));
+  CHECK(s.exact);
+}
+
+TEST_CASE("predicted limits of a two-particle spring equal the closed forms",
+          "[integrator][stability]") {
+  const double m = 0.5, k = 200.0;
+  const double w2 = k / m, w = std::sqrt(w2);
+  SECTION("undamped") {
+    const LinearSpectrum s = linear_spectrum(two_particles(m, k, 0.0));
+    // rk4 reaches 2 sqrt(2) on the imaginary axis, symplectic Euler h w = 2, picard h w = 1
+    CHECK(predicted_stable_dt(Integrator::rk4, s) == Approx(2 * std::sqrt(2.0) / w).epsilon(1e-6));
+    CHECK(predicted_stable_dt(Integrator::symplectic_euler, s) == Approx(2.0 / w).epsilon(1e-6));
+    CHECK(predicted_stable_dt(Integrator::picard_implicit, s) == Approx(1.0 / w).epsilon(1e-6));
+    // explicit Euler and midpoint grow every undamped oscillation, at any step; growth
+    // below 1e-12 per step (|R| - 1 ~ (h w)^2 / 2 and (h w)^4 / 8) counts as round-off,
+    // which puts the limits at h w ~ 1.4e-6 and 5.3e-3 instead of 0
+    CHECK(predicted_stable_dt(Integrator::explicit_euler, s) * w < 2e-6);
+    CHECK(predicted_stable_dt(Integrator::midpoint, s) * w < 6e-3);
+    CHECK(std::isinf(predicted_stable_dt(Integrator::implicit_euler, s)));
+  }
+  SECTION("underdamped") {
+    const double c = 1.0, a = c / m;  // a^2 = 4 < 4 w^2 = 1600
+    const LinearSpectrum s = linear_spectrum(two_particles(m, k, c));
+    // |1 + h lambda|^2 <= 1  <=>  h <= -2 Re(lambda) / |lambda|^2 = a / w^2 = c / k
+    CHECK(predicted_stable_dt(Integrator::explicit_euler, s) == Approx(c / k).epsilon(1e-6));
+    // symplectic Euler: det = 1 - h a, trace condition h^2 w^2 + 2 a h <= 4
+    CHECK(predicted_stable_dt(Integrator::symplectic_euler, s) ==
+          Approx((std::sqrt(a * a + 4 * w2) - a) / w2).epsilon(1e-6));
+  }
+  SECTION("overdamped") {
+    const double c = 100.0, a = c / m;  // a^2 = 40000 > 4 w^2
+    const LinearSpectrum s = linear_spectrum(two_particles(m, k, c));
+    const double fast = 0.5 * (a + std::sqrt(a * a - 4 * w2));  // |lambda| of the fast root
+    // real negative z: explicit Euler and midpoint need z >= -2, picard z >= -1
+    CHECK(predicted_stable_dt(Integrator::explicit_euler, s) == Approx(2.0 / fast).epsilon(1e-6));
+    CHECK(predicted_stable_dt(Integrator::midpoint, s) == Approx(2.0 / fast).epsilon(1e-6));
+    CHECK(predicted_stable_dt(Integrator::picard_implicit, s) == Approx(1.0 / fast).epsilon(1e-6));
+    // rk4's real-axis limit is the root of 1 + z + z^2/2 + z^3/6 + z^4/24 = 1, z ~ -2.785
+    CHECK(predicted_stable_dt(Integrator::rk4, s) * fast == Approx(2.785293563).epsilon(1e-6));
+    CHECK(predicted_stable_dt(Integrator::symplectic_euler, s) ==
+          Approx((std::sqrt(a * a + 4 * w2) - a) / w2).epsilon(1e-6));
+    CHECK(limiting_mode(Integrator::explicit_euler, s).find("overdamped") != std::string::npos);
+  }
+}
+
+TEST_CASE("Lanczos finds the top frequency of a chain", "[stability]") {
+  // n free masses below a pin: omega_max = 2 sqrt(k / m) sin(n pi / (2 (2 n + 1)))
+  Scene s;
+  const int n = 40;
+  s.cloth.nu = 1;
+  s.cloth.nv = n + 1;
+  s.cloth.size_u = 0.0;
+  s.cloth.size_v = 4.0;
+  s.cloth.plane = Plane::xy;
+  s.cloth.particle_mass = 0.1;
+  s.cloth.k_structural = 100.0;
+  s.cloth.k_shear = s.cloth.k_bend = 0.0;
+  s.held.assign(n + 1, 0);
+  s.held[n] = kHoldAll;
+  const LinearSpectrum sp = linear_spectrum(build_model(s));
+  const double theta = (2 * n - 1) * M_PI / (2 * n + 1);
+  CHECK(sp.omega_max == Approx(2 * std::sqrt(1000.0) * std::sin(theta / 2)).epsilon(1e-8));
+  // a straight chain at rest has no transverse stiffness: its sideways modes have omega = 0
+  CHECK(sp.omega_min == Approx(0.0).margin(1e-6));
+}

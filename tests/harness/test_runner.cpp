@@ -1,0 +1,271 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include "harness/runner.hpp"
+#include "harness/scenario_loader.hpp"
+
+using namespace clothbench;
+namespace fs = std::filesystem;
+
+namespace {
+
+// a small flag swinging above a sphere it never reaches; the second rk4 engine is an exact
+// copy of the reference, so its divergence must be exactly zero
+const char* kSmallScenario = R"(
+name = "small"
+description = "test scene"
+duration = 0.3
+frame_interval = 0.01
+snapshot_interval = 0.1
+reference = "rk4"
+[cloth]
+particles = [6, 5]
+size = [0.5, 0.4]
+center = [0.0, 1.0, 0.0]
+plane = "xz"
+particle_mass = 0.01
+stiffness = { structural = 50.0, shear = 50.0, bend = 5.0 }
+damping = 0.05
+[[constraint]]
+select = "edge:u0"
+hold = "xyz"
+[[sphere]]
+center = [0.0, -5.0, 0.0]
+radius = 0.5
+[[engine]]
+name = "rk4"
+integrator = "rk4"
+dt = 1e-4
+[[engine]]
+name = "rk4-copy"
+integrator = "rk4"
+dt = 1e-4
+[[engine]]
+name = "symplectic"
+integrator = "symplectic-euler"
+dt = 5e-4
+[[engine]]
+name = "explicit-big-step"
+integrator = "explicit-euler"
+dt = 1e-2
+)";
+
+struct Csv {
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+  int col(const std::string& name) const {
+    for (size_t i = 0; i < header.size(); ++i)
+      if (header[i] == name) return static_cast<int>(i);
+    FAIL("no column " << name);
+    return -1;
+  }
+  double num(size_t row, const std::string& name) const {
+    return std::stod(rows[row][static_cast<size_t>(col(name))]);
+  }
+};
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string f;
+  while (std::getline(ss, f, ',')) out.push_back(f);
+  if (!line.empty() && line.back() == ',') out.push_back("");
+  return out;
+}
+
+Csv read_csv(const fs::path& p) {
+  std::ifstream in(p);
+  REQUIRE(in.good());
+  Csv c;
+  std::string line;
+  std::getline(in, line);
+  c.header = split(line);
+  while (std::getline(in, line)) {
+    c.rows.push_back(split(line));
+    REQUIRE(c.rows.back().size() == c.header.size());
+  }
+  return c;
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("clothbench-test-" + name);
+  fs::remove_all(d);
+  return d;
+}
+
+RunResult run_small(const std::vector<std::string>& overrides = {}) {
+  RunOptions o;
+  o.progress = false;
+  return run_scenario(parse_scenario(kSmallScenario, "small.toml", overrides), o);
+}
+
+}  // namespace
+
+TEST_CASE("an end-to-end run writes every column with consistent values", "[scenario][runner]") {
+  const fs::path dir = fresh_dir("e2e");
+  write_run(run_small(), dir.string());
+
+  const Csv frames = read_csv(dir / "frames.csv");
+  CHECK(frames.header == std::vector<std::string>{"engine", "t", "kinetic", "gravity_potential",
+                                                  "elastic_potential", "dissipated", "total_energy",
+                                                  "energy_error", "max_strain", "mean_strain",
+                                                  "com_x", "com_y", "com_z", "min_y",
+                                                  "max_penetration", "shadow_area", "stable"});
+  std::map<std::string, int> rows_per_engine;
+  double e0 = 0, rk4_worst = 0;
+  for (size_t r = 0; r < frames.rows.size(); ++r) {
+    const std::string engine = frames.rows[r][0];
+    const int k = rows_per_engine[engine]++;
+    const bool stable = frames.num(r, "stable") == 1.0;
+    if (!stable) continue;
+    CHECK(frames.num(r, "t") == Approx(0.01 * k).margin(1e-12));
+    const double total = frames.num(r, "kinetic") + frames.num(r, "gravity_potential") +
+                         frames.num(r, "elastic_potential");
+    CHECK(frames.num(r, "total_energy") == Approx(total).epsilon(1e-12));
+    if (k == 0) e0 = total;
+    CHECK(frames.num(r, "energy_error") ==
+          Approx(total + frames.num(r, "dissipated") - e0).margin(1e-9));
+    CHECK(frames.num(r, "dissipated") >= 0.0);
+    CHECK(frames.num(r, "max_strain") >= frames.num(r, "mean_strain"));
+    CHECK(frames.num(r, "min_y") <= frames.num(r, "com_y"));
+    CHECK(frames.num(r, "max_penetration") == 0.0);
+    // the shadow of a flat 0.5 x 0.4 m cloth, less as it swings down
+    CHECK(frames.num(r, "shadow_area") <= 0.2 * 1.01);
+    CHECK(frames.num(r, "shadow_area") > 0.0);
+    if (engine == "rk4") rk4_worst = std::max(rk4_worst, std::abs(frames.num(r, "energy_error")));
+  }
+  CHECK(rows_per_engine["rk4"] == 31);
+  CHECK(rows_per_engine["symplectic"] == 31);
+  // the cloth falls through about 0.2 m: 30 particles * 0.01 kg * 9.8 * 0.2 ~ 0.6 J moves
+  INFO("rk4 worst energy error " << rk4_worst << " J");
+  CHECK(rk4_worst < 1e-8);
+  CHECK(frames.num(0, "shadow_area") == Approx(0.2).epsilon(0.01));
+
+  // the big explicit step blows up: its rows end with stable = 0, the others carry on
+  const Csv summary = read_csv(dir / "summary.csv");
+  REQUIRE(summary.rows.size() == 4);
+  CHECK(summary.rows[3][summary.col("stable")] == "0");
+  CHECK(std::stod(summary.rows[3][summary.col("blowup_t")]) > 0.0);
+  CHECK(summary.rows[0][summary.col("blowup_t")].empty());
+  CHECK(frames.rows.back()[frames.col("stable")] == "0");
+  CHECK(summary.rows[0][summary.col("integrator")] == "rk4");
+  CHECK(summary.num(0, "force_evals") == 4 * 3000);
+  CHECK(summary.num(2, "steps") == 600);
+  // no support under the cloth: no drape coefficient
+  CHECK(summary.rows[0][summary.col("drape_coefficient")].empty());
+
+  // divergence: none for the reference, exactly zero for its copy, small for symplectic
+  const Csv div = read_csv(dir / "divergence.csv");
+  CHECK(div.header == std::vector<std::string>{"engine", "reference", "t", "rms_distance",
+                                               "max_distance", "com_distance", "energy_difference",
+                                               "shadow_area_difference"});
+  double symplectic_worst = 0;
+  for (size_t r = 0; r < div.rows.size(); ++r) {
+    CHECK(div.rows[r][0] != "rk4");
+    CHECK(div.rows[r][1] == "rk4");
+    if (div.rows[r][0] == "rk4-copy") {
+      CHECK(div.num(r, "rms_distance") == 0.0);
+      CHECK(div.num(r, "max_distance") == 0.0);
+      CHECK(div.num(r, "energy_difference") == 0.0);
+    }
+    if (div.rows[r][0] == "symplectic") {
+      CHECK(div.num(r, "max_distance") >= div.num(r, "rms_distance"));
+      symplectic_worst = std::max(symplectic_worst, div.num(r, "rms_distance"));
+    }
+  }
+  CHECK(symplectic_worst > 0.0);
+  CHECK(symplectic_worst < 0.01);
+
+  // snapshots at 0, 0.1, 0.2, 0.3 s, every particle, matching the final frame's centre of mass
+  const Csv snaps = read_csv(dir / "snapshots.csv");
+  std::map<std::string, int> snap_rows;
+  double com_y = 0;
+  for (size_t r = 0; r < snaps.rows.size(); ++r) {
+    ++snap_rows[snaps.rows[r][0]];
+    if (snaps.rows[r][0] == "rk4" && std::abs(snaps.num(r, "t") - 0.3) < 1e-12)
+      com_y += snaps.num(r, "y") / 30.0;
+  }
+  CHECK(snap_rows["rk4"] == 4 * 30);
+  CHECK(com_y == Approx(frames.num(30, "com_y")).epsilon(1e-12));
+
+  // the resolved scenario reruns the same scene; run.json says what made it
+  const Scenario again = load_scenario((dir / "scenario.toml").string());
+  CHECK(scenario_to_toml(again) == slurp(dir / "scenario.toml"));
+  const std::string info = slurp(dir / "run.json");
+  CHECK(info.find("\"git_commit\"") != std::string::npos);
+  CHECK(info.find("\"compiler\"") != std::string::npos);
+}
+
+TEST_CASE("two runs give byte-identical CSVs apart from timing columns", "[runner]") {
+  const fs::path a = fresh_dir("det-a"), b = fresh_dir("det-b");
+  write_run(run_small(), a.string());
+  write_run(run_small(), b.string());
+  for (const char* f : {"frames.csv", "divergence.csv", "snapshots.csv", "scenario.toml"})
+    CHECK(slurp(a / f) == slurp(b / f));
+  Csv sa = read_csv(a / "summary.csv"), sb = read_csv(b / "summary.csv");
+  for (Csv* s : {&sa, &sb})
+    for (auto& row : s->rows)
+      row[static_cast<size_t>(s->col("wall_s"))] = row[static_cast<size_t>(s->col("us_per_step"))] =
+          "";
+  CHECK(sa.rows == sb.rows);
+}
+
+TEST_CASE("bad input and interruption leave no output behind", "[runner][scenario]") {
+  const fs::path dir = fresh_dir("bad");
+  // a bad override is refused before anything runs
+  CHECK_THROWS_AS(run_small({"engine.rk4.dt=-1"}), ScenarioError);
+  // an engine filter naming no engine
+  RunOptions o;
+  o.progress = false;
+  o.engines = {"nope"};
+  CHECK_THROWS_WITH(run_scenario(parse_scenario(kSmallScenario, "small.toml"), o),
+                    Catch::Contains("--engine nope") && Catch::Contains("rk4-copy"));
+  // an interrupted run throws before write_run, so nothing is written
+  interrupt_requested() = true;
+  CHECK_THROWS_AS(run_small(), Interrupted);
+  interrupt_requested() = false;
+  CHECK_FALSE(fs::exists(dir));
+  // an unwritable output folder is a clear error
+  CHECK_THROWS_WITH(write_run(run_small({"duration=0.02"}), "/proc/clothbench"),
+                    Catch::Contains("/proc/clothbench"));
+}
+
+TEST_CASE("an engine filter runs the chosen engines and the reference", "[runner]") {
+  RunOptions o;
+  o.progress = false;
+  o.engines = {"symplectic"};
+  const RunResult r = run_scenario(parse_scenario(kSmallScenario, "small.toml"), o);
+  REQUIRE(r.runs.size() == 2);
+  CHECK(r.runs[static_cast<size_t>(r.reference)].spec.name == "rk4");
+}
+
+TEST_CASE("shadow area of a flat grid is its area; a fold is not counted twice", "[runner]") {
+  cloth::Scene s;
+  s.cloth.nu = 9;
+  s.cloth.nv = 5;
+  s.cloth.size_u = 2.0;
+  s.cloth.size_v = 1.0;
+  const cloth::Model m = cloth::build_model(s);
+  const Eigen::Vector3d g(0, -9.8, 0);
+  // raster error is about half the perimeter's cells: 6 m * (2 m / 512) / 2 ~ 0.012 m^2
+  CHECK(shadow_area(m, g, m.x0) == Approx(2.0).margin(0.012));
+  // fold the cloth in half along x = 0: the shadow halves
+  cloth::Matrix3X folded = m.x0;
+  for (Eigen::Index p = 0; p < folded.cols(); ++p)
+    if (folded(0, p) > 0) {
+      folded(1, p) += 0.1 + 0.01 * folded(0, p);
+      folded(0, p) = -folded(0, p);
+    }
+  CHECK(shadow_area(m, g, folded) == Approx(1.0).margin(0.012));
+}
