@@ -17,6 +17,7 @@
 #include "cloth/integrator.hpp"
 #include "harness/accuracy_sweep.hpp"
 #include "harness/csv_writer.hpp"
+#include "harness/regression_check.hpp"
 #include "harness/engine_factory.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
@@ -46,15 +47,19 @@ std::vector<T> parse_list(const std::string& text, const std::string& option) {
   return out;
 }
 
-Scenario load(const std::string& path, const std::vector<std::string>& overrides) {
+/// The scenario at path (the embedded seed without one), keeping the engines named in only
+/// (and the reference), so an engine left out need not be able to model an overridden scene.
+Scenario load(const std::string& path, const std::vector<std::string>& overrides,
+              const std::vector<std::string>& only) {
   if (path.empty())
-    return parse_scenario(embedded_default_scenario(), "<embedded seed_sphere_drape>", overrides);
-  return load_scenario(path, overrides);
+    return parse_scenario(embedded_default_scenario(), "<embedded seed_sphere_drape>", overrides,
+                          only);
+  return load_scenario(path, overrides, only);
 }
 
 int cmd_run(const std::string& path, std::string out, const std::vector<std::string>& engines,
             const std::vector<std::string>& overrides, bool quiet) {
-  const Scenario sc = load(path, overrides);
+  const Scenario sc = load(path, overrides, engines);
   if (out.empty()) out = "out/" + sc.name;
   RunOptions options;
   options.engines = engines;
@@ -84,7 +89,7 @@ int cmd_run(const std::string& path, std::string out, const std::vector<std::str
 
 int cmd_stability(const std::string& path, const std::vector<std::string>& overrides,
                   StabilityOptions o) {
-  const Scenario sc = load(path, overrides);
+  const Scenario sc = load(path, overrides, o.engines);
   if (o.out_dir.empty()) o.out_dir = "out/" + sc.name;
   const std::vector<StabilityRow> rows = run_stability(sc, o);
   std::cout << "engine,integrator,stable_dt,first_unstable_dt,predicted_dt,ratio\n";
@@ -104,11 +109,37 @@ int cmd_stability(const std::string& path, const std::vector<std::string>& overr
 
 int cmd_accuracy(const std::string& path, const std::vector<std::string>& overrides,
                  AccuracyOptions o) {
-  const Scenario sc = load(path, overrides);
+  const Scenario sc = load(path, overrides, o.engines);
   if (o.out_dir.empty()) o.out_dir = "out/" + sc.name + "-accuracy";
   const AccuracyReport report = run_accuracy(sc, o);
   std::cout << accuracy_summary(report) << std::flush;
   return kOk;
+}
+
+// every shipped scenario file, sorted
+std::vector<std::string> shipped_scenarios() {
+  std::vector<std::string> files;
+  for (const auto& e : std::filesystem::directory_iterator(CLOTHBENCH_SCENARIO_DIR))
+    if (e.path().extension() == ".toml") files.push_back(e.path().string());
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+int cmd_check(std::vector<std::string> paths, const CheckOptions& o) {
+  if (paths.empty()) paths = shipped_scenarios();
+  std::vector<Gate> all;
+  for (const std::string& p : paths) {
+    const std::vector<Gate> g = check_scenario(p, o);
+    all.insert(all.end(), g.begin(), g.end());
+  }
+  const long failed = std::count_if(all.begin(), all.end(), [](const Gate& g) { return !g.pass; });
+  if (o.update) {
+    std::cout << (all.empty() ? std::string("baselines recorded; nothing changed\n")
+                              : "baselines recorded; what changed:\n" + format_gates(all));
+    return kOk;
+  }
+  std::cout << format_gates(all) << all.size() - failed << " gates passed, " << failed << " failed\n";
+  return failed > 0 ? 1 : kOk;
 }
 
 // runs analysis/report.py with Debian's python3 (for its matplotlib); returns its exit code
@@ -136,11 +167,7 @@ int cmd_report(const std::vector<std::string>& args) {
 
 int cmd_list() {
   std::cout << "scenarios (" << CLOTHBENCH_SCENARIO_DIR << "):\n";
-  std::vector<std::filesystem::path> files;
-  for (const auto& e : std::filesystem::directory_iterator(CLOTHBENCH_SCENARIO_DIR))
-    if (e.path().extension() == ".toml") files.push_back(e.path());
-  std::sort(files.begin(), files.end());
-  for (const auto& f : files) {
+  for (const std::filesystem::path f : shipped_scenarios()) {
     try {
       const Scenario sc = load_scenario(f.string());
       std::cout << "  " << sc.name << "  " << sc.scene.cloth.nu << "x" << sc.scene.cloth.nv << ", "
@@ -263,6 +290,20 @@ int main(int argc, char** argv) {
       ->allow_extra_args(false);
   accuracy->add_flag("--quiet,-q", quiet, "no progress on stderr");
 
+  CheckOptions chk;
+  chk.baseline_dir = CLOTHBENCH_BASELINE_DIR;
+  std::vector<std::string> check_paths;
+  CLI::App* check = app.add_subcommand(
+      "check", "Rerun scenarios and compare every gated quantity with its recorded baseline (final shape,\n"
+               "energy error, stability, divergence from the reference, force evaluations, CG\n"
+               "iterations). Exit status 1 when any gate fails. --update records new baselines.");
+  check->add_option("scenarios", check_paths, "scenario files (default: every shipped scenario)");
+  check->add_option("--baseline,-b", chk.baseline_dir, "baseline folder (one subfolder per scenario)")->capture_default_str();
+  check->add_flag("--update", chk.update, "record the current results as the baseline and print what changed");
+  check->add_option("--set,-s", overrides, "override a scenario key in every scenario (repeatable)")->allow_extra_args(false);
+  check->add_option("--jobs,-j", chk.jobs, "threads for the stability searches")->check(CLI::PositiveNumber);
+  check->add_flag("--quiet,-q", quiet, "no progress on stderr");
+
   CLI::App* report = app.add_subcommand(
       "report",
       "Plots and a self-contained report.html from an output folder (runs analysis/report.py\n"
@@ -286,6 +327,11 @@ int main(int argc, char** argv) {
     if (*run) return cmd_run(scenario_path, out, engines, overrides, quiet);
     if (*list) return cmd_list();
     if (*report) return cmd_report(report->remaining());
+    if (*check) {
+      chk.overrides = overrides;
+      chk.progress = !quiet;
+      return cmd_check(check_paths, chk);
+    }
     if (*accuracy) {
       acc.progress = !quiet;
       acc.dts = parse_list<double>(dts_text, "--dts");

@@ -641,7 +641,8 @@ EngineSpec read_engine(const Reader& r, const toml::table& t, int index) {
   return e;
 }
 
-Scenario read_scenario(const toml::table& root, const std::string& source) {
+Scenario read_scenario(const toml::table& root, const std::string& source,
+                       const std::vector<std::string>& only) {
   const Reader r(source);
   const At at{root, ""};
   r.check_keys(at, kTopKeys);
@@ -700,13 +701,6 @@ Scenario read_scenario(const toml::table& root, const std::string& source) {
              "expected frame_interval to be a whole multiple of dt, got frame_interval = " +
                  toml_double(s.frame_interval) + " s and dt = " + toml_double(e.dt) + " s");
     }
-    if (const std::string why = engine_limitation(e, s.scene); !why.empty()) {
-      const auto stiffness = root["cloth"]["stiffness"];
-      const auto [n, key] = blame({{t.get("kind") ? t.get("kind") : &t, path + ".kind"},
-                                   {stiffness["structural"].node(), "cloth.stiffness.structural"},
-                                   {stiffness["shear"].node(), "cloth.stiffness.shear"}});
-      r.fail(n, key, why);
-    }
     s.engines.push_back(std::move(e));
   }
 
@@ -721,6 +715,32 @@ Scenario read_scenario(const toml::table& root, const std::string& source) {
              "expected the name of an engine, got " + toml_string(s.reference) +
                  suggest(s.reference, names));
   }
+
+  // the engines asked for (and the reference) stay; only they must be able to model the scene
+  Keys names;
+  for (const EngineSpec& e : s.engines) names.push_back(e.name);
+  for (const std::string& name : only)
+    if (!contains(names, name))
+      throw ScenarioError(source, "engine",
+                          "expected the name of one of the scenario's engines, got " +
+                              toml_string(name) + suggest(name, names));
+  std::vector<EngineSpec> kept;
+  for (size_t k = 0; k < s.engines.size(); ++k) {
+    EngineSpec& e = s.engines[k];
+    if (!only.empty() && e.name != s.reference &&
+        std::find(only.begin(), only.end(), e.name) == only.end())
+      continue;
+    if (const std::string why = engine_limitation(e, s.scene); !why.empty()) {
+      const toml::table& t = *engines[k];
+      const auto stiffness = root["cloth"]["stiffness"];
+      const auto [n, key] = blame({{t.get("kind") ? t.get("kind") : &t, "engine." + e.name + ".kind"},
+                                   {stiffness["structural"].node(), "cloth.stiffness.structural"},
+                                   {stiffness["shear"].node(), "cloth.stiffness.shear"}});
+      r.fail(n, key, why);
+    }
+    kept.push_back(std::move(e));
+  }
+  s.engines = std::move(kept);
   return s;
 }
 
@@ -880,7 +900,12 @@ std::string vec(std::initializer_list<double> xs) {
 
 std::string engine_limitation(const EngineSpec& engine, const cloth::Scene& scene) {
   const cloth::ClothParams& c = scene.cloth;
-  if (engine.kind == "bullet-deformable" && c.k_structural != c.k_shear)
+  // only a grid with both kinds of spring has two stiffnesses to tell apart: a chain
+  // (one particle wide) has no shear springs, nor has a cloth whose shear stiffness is 0
+  const bool has_structural = c.k_structural > 0.0;
+  const bool has_shear = c.k_shear > 0.0 && c.nu > 1 && c.nv > 1;
+  if (engine.kind == "bullet-deformable" && has_structural && has_shear &&
+      c.k_structural != c.k_shear)
     return "bullet-deformable cannot model this scene: its mass-spring force has one stiffness "
            "for structural and shear springs, but cloth.stiffness has structural = " +
            toml_double(c.k_structural) + " and shear = " + toml_double(c.k_shear) +
@@ -889,7 +914,8 @@ std::string engine_limitation(const EngineSpec& engine, const cloth::Scene& scen
 }
 
 Scenario parse_scenario(std::string_view toml_text, const std::string& source_name,
-                        const std::vector<std::string>& overrides) {
+                        const std::vector<std::string>& overrides,
+                        const std::vector<std::string>& only) {
   toml::table root;
   try {
     root = toml::parse(toml_text, source_name);
@@ -900,10 +926,11 @@ Scenario parse_scenario(std::string_view toml_text, const std::string& source_na
                             "): " + std::string(e.description()));
   }
   for (const std::string& o : overrides) apply_override(root, o);
-  return read_scenario(root, source_name);
+  return read_scenario(root, source_name, only);
 }
 
-Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides) {
+Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides,
+                       const std::vector<std::string>& only) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec))
     throw ScenarioError(path, "", "expected a scenario file, got a directory");
@@ -914,7 +941,7 @@ Scenario load_scenario(const std::string& path, const std::vector<std::string>& 
   std::ostringstream text;
   text << in.rdbuf();
   if (in.bad()) throw ScenarioError(path, "", "cannot read the scenario file");
-  return parse_scenario(text.str(), path, overrides);
+  return parse_scenario(text.str(), path, overrides, only);
 }
 
 std::string embedded_default_scenario() {

@@ -34,8 +34,11 @@ class ScenarioError : public std::runtime_error {
 
 /// Reads, overrides and validates the scenario file at path; source is set to path.
 /// @param overrides  "key=value" strings as given to --set, applied in order before validation
+/// @param only  engine names to keep (the reference is always kept); empty keeps every engine.
+///               Only kept engines must be able to model the scene.
 /// Throws ScenarioError for an unreadable file or anything parse_scenario rejects.
-Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides = {});
+Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides = {},
+                       const std::vector<std::string>& only = {});
 
 /// Parses, overrides and validates scenario text; source_name stands for the file in messages.
 ///
@@ -46,7 +49,8 @@ Scenario load_scenario(const std::string& path, const std::vector<std::string>& 
 /// total_mass and vice versa; setting a stiffness kind when the file has no stiffness table
 /// starts from the default table. Throws ScenarioError.
 Scenario parse_scenario(std::string_view toml_text, const std::string& source_name,
-                        const std::vector<std::string>& overrides = {});
+                        const std::vector<std::string>& overrides = {},
+                        const std::vector<std::string>& only = {});
 
 /// The fully resolved scenario (every key, defaults filled in) as TOML; parsing it gives back
 /// the same Scenario (source aside). Doubles are written in their shortest exact form.

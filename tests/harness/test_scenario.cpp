@@ -285,8 +285,21 @@ TEST_CASE("the seed scenario is the engine's seed scene", "[scenario]") {
   std::vector<std::string> names;
   for (const EngineSpec& e : s.engines) names.push_back(e.name);
   CHECK(names == std::vector<std::string>{"custom-rk4", "custom-symplectic-euler",
-                                          "custom-midpoint", "custom-implicit-euler"});
+                                          "custom-midpoint", "custom-implicit-euler",
+                                          "bullet-deformable-explicit",
+                                          "bullet-deformable-implicit", "bullet-softbody-matched"});
   CHECK(s.engines[3].dt == 1e-3);
+  CHECK(s.engines[5].bullet.implicit);
+  CHECK(s.engines[6].bullet.stiffness == "matched");
+}
+
+TEST_CASE("keeping engines by name: a misspelt name is refused with the nearest one", "[scenario]") {
+  try {
+    load_scenario(seed_path(), {}, {"custom-midpiont"});
+    FAIL("expected a ScenarioError");
+  } catch (const ScenarioError& e) {
+    CHECK_THAT(e.what(), Catch::Contains("custom-midpiont") && Catch::Contains("custom-midpoint"));
+  }
 }
 
 TEST_CASE("the embedded default is scenarios/seed_sphere_drape.toml, byte for byte", "[scenario]") {
@@ -350,7 +363,16 @@ TEST_CASE("overrides given with --set reach any key before validation", "[scenar
     CHECK(s.scene.cloth.damping == 2.0);
   }
   SECTION("one stiffness kind") {
-    const Scenario s = load_scenario(seed_path(), {"cloth.stiffness.shear=5"});
+    // bullet-deformable has one stiffness for structural and shear springs: the engines kept
+    // must model the scene, the others may be left out
+    CHECK_THROWS_WITH(load_scenario(seed_path(), {"cloth.stiffness.shear=5"}),
+                      Catch::Contains("bullet-deformable cannot model this scene"));
+    const Scenario s = load_scenario(seed_path(), {"cloth.stiffness.shear=5"},
+                                     {"custom-midpoint", "bullet-softbody-matched"});
+    REQUIRE(s.engines.size() == 3);
+    CHECK(s.engines[0].name == "custom-rk4");  // the reference stays
+    CHECK(s.engines[1].name == "custom-midpoint");
+    CHECK(s.engines[2].name == "bullet-softbody-matched");
     CHECK(s.scene.cloth.k_shear == 5.0);
     CHECK(s.scene.cloth.k_structural == base.scene.cloth.k_structural);
     // with no stiffness table in the file, the others keep their defaults

@@ -1,0 +1,25 @@
+"""One module per plot. Each has STEM (file name), CAPTION, available(folder) and
+draw(folders, ctx) -> PNG path, where folders is one Folder or two (--compare)."""
+
+from . import convergence, divergence, drape, energy, shadow, stability, strain, work_precision
+
+# in the order the report shows them
+ALL = [energy, divergence, strain, drape, shadow, work_precision, convergence, stability]
+
+
+class Context:
+    """Options shared by the plots.
+
+    outdir          folder for the images
+    svg             also write SVG
+    colors          style.Colors shared by every plot
+    snapshot_times  wanted snapshot times (s) for the drape plot, or None for an even spread
+    tolerance       error tolerance (m) to draw on the work-precision plot, or None (from the CSV)
+    """
+
+    def __init__(self, outdir, svg, colors, snapshot_times=None, tolerance=None):
+        self.outdir = outdir
+        self.svg = svg
+        self.colors = colors
+        self.snapshot_times = snapshot_times
+        self.tolerance = tolerance

@@ -1,0 +1,98 @@
+"""Energy over time per engine: kinetic, potentials and dissipated energy, and the energy error."""
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from . import style
+
+STEM = "energy"
+TITLE = "Energy over time"
+CAPTION = ("Energy over time per engine (left): kinetic, gravity potential relative to its initial "
+           "value, elastic potential and the energy dissipated by damping and contact. Right: the "
+           "energy error, total + dissipated − initial total, which is zero for an exact "
+           "integrator.")
+
+# frames.csv column, legend text, colour
+QUANTITIES = [
+    ("kinetic", "kinetic", "tab:blue"),
+    ("gravity_potential", "gravity potential − initial", "tab:green"),
+    ("elastic_potential", "elastic potential", "tab:orange"),
+    ("dissipated", "dissipated", "tab:purple"),
+]
+
+
+def available(folder):
+    return folder.has("frames.csv")
+
+
+def stable_rows(folder, engine):
+    """frames.csv rows of an engine sorted by t, without the rows at or after a blow-up."""
+    frames = folder.table("frames.csv").select(engine=engine)
+    frames = frames.where(np.argsort(frames["t"], kind="stable"))
+    return frames.where(frames["stable"] >= 0.5)
+
+
+def frame_engines(folders):
+    engines = []
+    for f in folders:
+        if f.has("frames.csv"):
+            for e in f.table("frames.csv").unique("engine"):
+                if e not in engines:
+                    engines.append(e)
+    return engines
+
+
+def mark_blowup(ax, folder, engine, ls, label=True, name=False):
+    """A red vertical line at the engine's blow-up time, labelled (with the engine's name)."""
+    t = folder.blowup(engine)
+    if t is None or np.isnan(t):
+        return
+    ax.axvline(t, color="tab:red", ls=ls, lw=1.2, alpha=0.8)
+    if label:
+        who = f"{engine} " if name else ""
+        ax.annotate(f"{who}blew up, t = {style.fmt(t)} s", (t, 0.97),
+                    xycoords=("data", "axes fraction"),
+                    xytext=(4, 0), textcoords="offset points", ha="left", va="top",
+                    color="tab:red", fontsize=style.FONT - 1)
+
+
+def draw(folders, ctx):
+    engines = frame_engines(folders)
+    n = len(engines)
+    fig, axes = plt.subplots(n, 2, figsize=(12, 1.3 + 2.5 * n), squeeze=False, sharex=True,
+                             gridspec_kw={"width_ratios": [1.5, 1]}, layout="constrained")
+    for r, engine in enumerate(engines):
+        ax_e, ax_err = axes[r]
+        for k, f in enumerate(folders):
+            if not f.has("frames.csv") or engine not in f.table("frames.csv").unique("engine"):
+                continue
+            rows = stable_rows(f, engine)
+            ls = style.RUN_STYLES[k]
+            t = rows["t"]
+            for col, text, color in QUANTITIES:
+                y = rows[col]
+                if col == "gravity_potential" and len(y):
+                    y = y - y[0]
+                ax_e.plot(t, y, color=color, ls=ls, lw=1.5, label=text if k == 0 else None)
+            ax_err.plot(t, rows["energy_error"], color=ctx.colors[engine], ls=ls, lw=1.5,
+                        label=f.label if len(folders) > 1 else None)
+            for ax in (ax_e, ax_err):
+                mark_blowup(ax, f, engine, ls, label=(ax is ax_e))
+        ax_e.set_title(f"{engine}: energies")
+        ax_e.set_ylabel("energy (J)")
+        ax_err.set_title(f"{engine}: energy error")
+        ax_err.set_ylabel("energy error (J)")
+        ax_err.axhline(0.0, color="0.5", lw=0.8)
+        if r == 0:
+            handles, labels = ax_e.get_legend_handles_labels()
+            if len(folders) > 1:
+                for k, f in enumerate(folders):
+                    handles.append(plt.Line2D([], [], color="0.3", ls=style.RUN_STYLES[k]))
+                    labels.append(f.label)
+            ax_e.legend(handles, labels, loc="best", ncol=2 if len(folders) > 1 else 1)
+            if len(folders) > 1:
+                style.legend(ax_err, loc="best")
+    for ax in axes[-1]:
+        ax.set_xlabel("time t (s)")
+    style.title(fig, TITLE, folders)
+    return style.save(fig, ctx.outdir, STEM, ctx.svg)

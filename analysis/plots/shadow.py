@@ -1,0 +1,166 @@
+"""Top view: the cloths' shadows on the plane normal to gravity, with drape coefficients."""
+
+import math
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from . import style
+from .drape import spheres
+
+STEM = "shadow"
+TITLE = "Drape seen from above"
+CAPTION = ("Top view of the final cloth of every engine: its shadow on the plane normal to gravity "
+           "(filled), overlaid, with the support outlined and the drape coefficient "
+           "(shadow area − support area) / (cloth area − support area) where the run reports "
+           "one.")
+
+RASTER = 800  # cells along the longer side of the shadow raster
+
+
+def axes_of(folder):
+    """Indices (a, b) of the two world axes spanning the plane normal to gravity."""
+    g = np.array(folder.scenario.get("gravity", [0.0, -9.8, 0.0]), dtype=float)
+    down = int(np.argmax(np.abs(g))) if np.any(g) else 1
+    return [k for k in range(3) if k != down]
+
+
+def shadow_mask(grid, ab, gx, gy):
+    """Boolean raster (len(gx) by len(gy)): inside the union of the projected grid triangles."""
+    nu, nv, _ = grid.shape
+    p = grid[:, :, ab]
+    px, py = np.meshgrid(gx, gy, indexing="ij")
+    inside = np.zeros(px.shape, dtype=bool)
+    for i in range(nu - 1):
+        for j in range(nv - 1):
+            for tri in ((p[i, j], p[i + 1, j], p[i + 1, j + 1]),
+                        (p[i, j], p[i + 1, j + 1], p[i, j + 1])):
+                (x1, y1), (x2, y2), (x3, y3) = tri
+                det = (y2 - y3) * (x1 - x3) + (x3 - x2) * (y1 - y3)
+                if abs(det) < 1e-15:
+                    continue
+                # only test the raster cells inside the triangle's bounding box
+                i0, i1 = np.searchsorted(gx, [min(x1, x2, x3), max(x1, x2, x3)])
+                j0, j1 = np.searchsorted(gy, [min(y1, y2, y3), max(y1, y2, y3)])
+                sx, sy = px[i0:i1 + 1, j0:j1 + 1], py[i0:i1 + 1, j0:j1 + 1]
+                l1 = ((y2 - y3) * (sx - x3) + (x3 - x2) * (sy - y3)) / det
+                l2 = ((y3 - y1) * (sx - x3) + (x1 - x3) * (sy - y3)) / det
+                eps = 1e-9
+                inside[i0:i1 + 1, j0:j1 + 1] |= (l1 >= -eps) & (l2 >= -eps) & (l1 + l2 <= 1 + eps)
+    return inside
+
+
+def final_shapes(folder):
+    """engine -> (time, grid) of the last snapshot, for engines whose final cloth is finite."""
+    out = {}
+    for e in folder.table("snapshots.csv").unique("engine"):
+        times = folder.snapshot_times(e)
+        g = folder.snapshot(e, times[-1])
+        if folder.blowup(e) is None and np.all(np.isfinite(g)):
+            out[e] = (times[-1], g)
+    return out
+
+
+def disks(folder):
+    """((a, b), radius) of the scenario's `select = "disk"` constraints (the table's support),
+    in the cloth plane's two world axes, which are those of the top view for a horizontal cloth."""
+    out = []
+    cons = folder.scenario.get("constraint", [])
+    for c in cons if isinstance(cons, list) else []:
+        if isinstance(c, dict) and c.get("select") == "disk":
+            try:
+                center = [float(v) for v in c.get("center", [0.0, 0.0])][:2]
+                out.append((tuple(center), float(c["radius"])))
+            except (KeyError, TypeError, ValueError):
+                continue
+    return out
+
+
+def available(folder):
+    return folder.has("snapshots.csv")
+
+
+def draw(folders, ctx):
+    panels = [f for f in folders if f.has("snapshots.csv")]
+    shapes = [final_shapes(f) for f in panels]
+    ab = axes_of(panels[0])
+    names = "xyz"
+    # one window for every panel: the flat cloth and every finite final cloth
+    pts = []
+    for f, sh in zip(panels, shapes):
+        for e in f.table("snapshots.csv").unique("engine"):
+            g0 = f.snapshot(e, f.snapshot_times(e)[0])
+            pts.append(g0.reshape(-1, 3))
+        pts.extend(g.reshape(-1, 3) for _, g in sh.values())
+    pts = np.concatenate(pts)[:, ab]
+    pts = pts[np.all(np.isfinite(pts), axis=1)]
+    lo, hi = pts.min(axis=0), pts.max(axis=0)
+    pad = 0.06 * max(hi - lo)
+    lo, hi = lo - pad, hi + pad
+    cell = max(hi - lo) / RASTER
+    gx = np.arange(lo[0], hi[0] + cell, cell)
+    gy = np.arange(lo[1], hi[1] + cell, cell)
+
+    # room for the title, the square-ish panels and a legend line per engine below them
+    entries = max(len(f.table("snapshots.csv").unique("engine")) for f in panels) + 2
+    aspect = (hi[1] - lo[1]) / (hi[0] - lo[0])
+    width = 12 if len(panels) > 1 else 9.5
+    panel_w = (width - 1.2) / len(panels) if len(panels) > 1 else 6.0
+    legend_h = 0.24 * entries + 0.2
+    height = 1.6 + panel_w * aspect + legend_h
+    # the legends get their own row of blank axes, so that the layout always makes room
+    fig, axes = plt.subplots(2, len(panels), figsize=(width, height), squeeze=False,
+                             layout="constrained",
+                             gridspec_kw={"height_ratios": [panel_w * aspect, legend_h]})
+    for ax in axes[0][1:]:
+        ax.sharex(axes[0][0])
+        ax.sharey(axes[0][0])
+    for ax, leg_ax, f, sh in zip(axes[0], axes[1], panels, shapes):
+        handles = []
+        engines = f.table("snapshots.csv").unique("engine")
+        # the flat cloth at the first snapshot of the first engine, for scale
+        g0 = f.snapshot(engines[0], f.snapshot_times(engines[0])[0])
+        if np.all(np.isfinite(g0)):
+            outline = np.concatenate([g0[:, 0], g0[-1, :], g0[::-1, -1], g0[0, ::-1]])[:, ab]
+            ax.plot(outline[:, 0], outline[:, 1], color="0.45", ls=":", lw=1.2)
+            handles.append((plt.Line2D([], [], color="0.45", ls=":"),
+                            f"cloth at t = {style.fmt(f.snapshot_times(engines[0])[0])} s"))
+        for c, r in spheres(f, 0.0):
+            circle = plt.Circle((c[ab[0]], c[ab[1]]), r, fill=False, color="black", ls="--", lw=1.2)
+            ax.add_patch(circle)
+            handles.append((plt.Line2D([], [], color="black", ls="--"),
+                            f"support: sphere r = {style.fmt(r)} m"))
+        for (x, y), r in disks(f):
+            ax.add_patch(plt.Circle((x, y), r, fill=False, color="black", ls="-.", lw=1.2))
+            handles.append((plt.Line2D([], [], color="black", ls="-."),
+                            f"support: held disk r = {style.fmt(r)} m"))
+        for e in engines:
+            color = ctx.colors[e]
+            info = f.engine_info(e)
+            dc = info.get("drape_coefficient", math.nan) if info else math.nan
+            dc_text = f"drape coefficient {dc:.3f}" if isinstance(dc, float) and np.isfinite(dc) \
+                else "no drape coefficient"
+            if e not in sh:
+                blow = f.blowup(e)
+                why = f"blew up at t = {style.fmt(blow)} s" if blow is not None else "non-finite"
+                handles.append((plt.Line2D([], [], color=color, lw=0), f"{e}: not drawn ({why})"))
+                continue
+            t, g = sh[e]
+            mask = shadow_mask(g, ab, gx, gy).astype(float)
+            ax.contourf(gx, gy, mask.T, levels=[0.5, 1.5], colors=[color], alpha=0.22)
+            ax.contour(gx, gy, mask.T, levels=[0.5], colors=[color], linewidths=1.8)
+            area = mask.sum() * cell * cell
+            handles.append((plt.Line2D([], [], color=color, lw=6, alpha=0.5),
+                            f"{e} (t = {style.fmt(t)} s): shadow {area:.3g} m², {dc_text}"))
+        ax.set_aspect("equal")
+        ax.set_xlim(lo[0], hi[0])
+        ax.set_ylim(lo[1], hi[1])
+        ax.set_xlabel(f"{names[ab[0]]} (m)")
+        ax.set_ylabel(f"{names[ab[1]]} (m)")
+        ax.set_title(f"{f.label}: final shapes seen from above" if len(panels) > 1
+                     else "final shapes seen from above")
+        leg_ax.set_axis_off()
+        leg_ax.legend([h for h, _ in handles], [t for _, t in handles], loc="upper center",
+                      fontsize=style.FONT - 1, ncol=1, frameon=False)
+    style.title(fig, TITLE, folders, compare="panels")
+    return style.save(fig, ctx.outdir, STEM, ctx.svg)

@@ -1,0 +1,112 @@
+"""Stability: measured against predicted largest stable time step per engine and integrator."""
+
+import matplotlib.pyplot as plt
+import numpy as np
+
+from . import style
+
+STEM = "stability"
+TITLE = "Stability limits"
+CAPTION = ("Largest stable time step per engine and integrator. Top: measured (circle; the red "
+           "triangle above it is the first failing time step) beside the prediction from the "
+           "linearised scene's extreme eigenvalues (diamond); an arrow means no failure up to the "
+           "largest step tried. Bottom: measured / predicted, with the ±10 % band shaded.")
+
+GOAL = 0.10  # relative agreement the sweeps issue asks for on scenes without contact
+
+
+def available(folder):
+    return folder.has("stability.csv")
+
+
+def _keys(panels):
+    keys = []
+    for f in panels:
+        for e, i in style.configs(f.table("stability.csv")):
+            if (e, i) not in keys:
+                keys.append((e, i))
+    return keys
+
+
+def draw(folders, ctx):
+    panels = [f for f in folders if f.has("stability.csv")]
+    keys = _keys(panels)
+    fig, (ax, ax_r) = plt.subplots(2, 1, figsize=(12, 8.4), sharex=True, layout="constrained",
+                                   gridspec_kw={"height_ratios": [2.6, 1]})
+    # horizontal slots inside each category: (measured, predicted) per folder
+    step = 0.22 if len(panels) == 1 else 0.16
+    values, ratios = [], []
+    for k, f in enumerate(panels):
+        st = f.table("stability.csv")
+        base = -step / 2 if len(panels) == 1 else (-1.5 + 2 * k) * step
+        hollow = k == 1
+        suffix = f" ({f.label})" if len(panels) > 1 else ""
+        labelled = set()
+
+        def lab(what):
+            if what in labelled:
+                return None
+            labelled.add(what)
+            return what + suffix
+
+        for n, (e, i) in enumerate(keys):
+            rows = st.where((st["engine"] == e) & (st["integrator"] == i))
+            if not len(rows):
+                continue
+            xm, xp = n + base, n + base + step
+            meas, fail = rows["stable_dt"][0], rows["first_unstable_dt"][0]
+            pred, ratio = rows["predicted_dt"][0], rows["ratio_measured_to_predicted"][0]
+            if not np.isfinite(ratio) and np.isfinite(meas) and np.isfinite(pred) and pred > 0:
+                ratio = meas / pred
+            if np.isfinite(meas):
+                ax.plot([xm], [meas], marker="o", ms=10, ls="none", color="tab:blue",
+                        mfc="white" if hollow else "tab:blue", mew=2,
+                        label=lab("measured stable dt"))
+                values.append(meas)
+                if np.isfinite(fail):
+                    ax.plot([xm, xm], [meas, fail], color="0.4", lw=1.2)
+                    ax.plot([xm], [fail], marker="v", ms=9, ls="none", color="tab:red",
+                            mfc="white" if hollow else "tab:red", mew=2,
+                            label=lab("first unstable dt"))
+                    values.append(fail)
+                else:
+                    ax.annotate("", (xm, meas * 2.0), (xm, meas * 1.12),
+                                arrowprops={"arrowstyle": "-|>", "color": "tab:blue", "lw": 1.6})
+                    values.append(meas * 2.0)
+            else:
+                ax.text(xm, 0.5, "never stable", rotation=90, ha="center", va="center",
+                        transform=ax.get_xaxis_transform(), color="tab:red")
+            if np.isfinite(pred):
+                ax.plot([xp], [pred], marker="D", ms=9, ls="none",
+                        mfc="white" if hollow else "none",
+                        mec="tab:orange", mew=2.2, label=lab("predicted largest stable dt"))
+                values.append(pred)
+            elif np.isfinite(meas):
+                ax.annotate("no prediction", (xp, meas), ha="center", va="center",
+                            rotation=90, fontsize=style.FONT - 1, color="0.45")
+            if np.isfinite(ratio):
+                ax_r.plot([n + base + step / 2], [ratio], marker="o" if not hollow else "s", ms=8,
+                          ls="none", color="tab:purple", mfc="white" if hollow else "tab:purple",
+                          mew=2, label=lab("measured / predicted"))
+                ax_r.annotate(f"{ratio:.2f}", (n + base + step / 2, ratio), xytext=(0, 8),
+                              textcoords="offset points", ha="center", fontsize=style.FONT - 1)
+                ratios.append(ratio)
+    ax.set_yscale("log")
+    if values:
+        ax.set_ylim(min(values) / 2.0, max(values) * 2.5)
+    ax.set_xlim(-0.6, len(keys) - 0.4)
+    ax.set_ylabel("time step dt (s)")
+    style.legend(ax, loc="upper left", ncol=2 if len(panels) > 1 else 1)
+    ax_r.axhspan(1 - GOAL, 1 + GOAL, color="tab:green", alpha=0.12, label="±10 %")
+    ax_r.axhline(1.0, color="0.4", lw=1)
+    lo = min(ratios + [1 - GOAL]) - 0.1
+    hi = max(ratios + [1 + GOAL]) + 0.15
+    ax_r.set_ylim(lo, hi)
+    ax_r.set_ylabel("measured / predicted (ratio)")
+    ax_r.set_xticks(range(len(keys)), [style.config_key(e, i) for e, i in keys], rotation=15,
+                    ha="right")
+    ax_r.set_xlabel("engine / integrator")
+    style.legend(ax_r, loc="lower left", ncol=3)
+    style.title(fig, TITLE, panels, engines_line=style.sweep_line(panels, ("stability.csv",)),
+                compare="markers")
+    return style.save(fig, ctx.outdir, STEM, ctx.svg)

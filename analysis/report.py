@@ -1,0 +1,169 @@
+#!/usr/bin/python3
+"""Turn a clothbench output folder into plots and one self-contained report.html.
+
+usage: report.py DIR [--compare DIR2] [--labels A,B] [--out OUTDIR] [--svg]
+                 [--snapshot-times T1,T2,...] [--tolerance E]
+
+DIR is the output folder of `clothbench run` and/or a sweep (`clothbench stability`,
+`clothbench accuracy`); the report draws every plot the folder has data for. With --compare the
+same plots show both folders: DIR with solid lines, DIR2 dashed.
+
+Exit codes: 0 report written; 2 bad input (missing folder, no CSV, missing column, malformed
+value: one line on stderr naming the file); 1 internal error.
+"""
+
+import argparse
+import os
+import sys
+
+if __name__ == "__main__" and not __package__:
+    # run as a script: import the package from the repository root, and keep analysis/ itself
+    # off the path so that its module names never shadow the standard library's
+    _here = os.path.dirname(os.path.abspath(__file__))
+    sys.path = [p for p in sys.path if os.path.abspath(p or ".") != _here]
+    sys.path.insert(0, os.path.dirname(_here))
+
+from analysis.csvio import ReportError  # noqa: E402
+from analysis.folder import Folder  # noqa: E402
+
+PROG = "report"
+
+
+def parse_args(argv):
+    p = argparse.ArgumentParser(
+        prog="report.py",
+        description="Plots and a self-contained report.html from a clothbench output folder.")
+    p.add_argument("dir", metavar="DIR", help="output folder of clothbench run or a sweep")
+    p.add_argument("--compare", metavar="DIR2",
+                   help="second folder drawn in the same plots (dashed), e.g. before a change")
+    p.add_argument("--labels", metavar="A,B",
+                   help="names of DIR and DIR2 in legends (default: the folder names)")
+    p.add_argument("--out", metavar="OUTDIR",
+                   help="where to write report.html and the images (default: DIR, or "
+                        "DIR/compare-DIR2NAME with --compare)")
+    p.add_argument("--svg", action="store_true", help="write SVG images besides the PNGs")
+    p.add_argument("--snapshot-times", metavar="LIST",
+                   help="snapshot times (s) for the drape plot, comma separated (default: up to 4 "
+                        "spread from the first to the last)")
+    p.add_argument("--tolerance", metavar="E", type=float,
+                   help="error tolerance (m) drawn on the work-precision plot (default: from "
+                        "recommendation.csv)")
+    return p.parse_args(argv)
+
+
+def labels_for(args):
+    if args.labels:
+        parts = [s.strip() for s in args.labels.split(",")]
+        if len(parts) != (2 if args.compare else 1) or not all(parts):
+            raise ReportError(f"--labels: expected {2 if args.compare else 1} comma-separated "
+                              f"names, got '{args.labels}'")
+        return parts
+    paths = [args.dir] + ([args.compare] if args.compare else [])
+    names = [os.path.basename(os.path.normpath(p)) for p in paths]
+    if len(names) == 2 and names[0] == names[1]:
+        names = [os.path.join(*os.path.normpath(os.path.abspath(p)).split(os.sep)[-2:])
+                 for p in paths]
+        if names[0] == names[1]:
+            names = ["A", "B"]
+    return names
+
+
+def parse_times(text):
+    if not text:
+        return None
+    try:
+        return [float(s) for s in text.split(",") if s.strip()]
+    except ValueError:
+        raise ReportError(f"--snapshot-times: expected numbers separated by commas, got '{text}'") \
+            from None
+
+
+def notes_for(folders):
+    """Lines for the page about files that are absent or empty."""
+    notes = []
+    run_files = ["frames.csv", "divergence.csv", "snapshots.csv", "summary.csv"]
+    sweep_files = ["stability.csv", "work_precision.csv", "convergence.csv", "recommendation.csv"]
+    for f in folders:
+        prefix = f"{f.label}: " if len(folders) > 1 else ""
+        present = set(f.tables)
+        for group in (run_files, sweep_files):
+            if present & set(group):
+                missing = [n for n in group if n not in present]
+                if missing:
+                    notes.append(f"{prefix}no {', '.join(missing)}: the plots that need "
+                                 f"{'it' if len(missing) == 1 else 'them'} are left out.")
+        for name in sorted(present):
+            if not f.has(name):
+                notes.append(f"{prefix}{name} has a header but no rows.")
+        if not f.scenario_text and present & set(run_files):
+            notes.append(f"{prefix}no scenario.toml: titles use the folder name.")
+    return notes
+
+
+def run(argv):
+    args = parse_args(argv)
+    labels = labels_for(args)
+    folders = [Folder(args.dir, labels[0])]
+    if args.compare:
+        folders.append(Folder(args.compare, labels[1]))
+    snapshot_times = parse_times(args.snapshot_times)
+    outdir = args.out or (args.dir if not args.compare else os.path.join(
+        args.dir, "compare-" + os.path.basename(os.path.normpath(args.compare))))
+    try:
+        os.makedirs(outdir, exist_ok=True)
+    except OSError as e:
+        raise ReportError(f"{outdir}: cannot create the output folder: {e.strerror}") from None
+    if not os.access(outdir, os.W_OK):
+        raise ReportError(f"{outdir}: output folder is not writable")
+
+    # plotting starts only once every input has been read and checked
+    from analysis import page, verdicts
+    from analysis.plots import ALL, Context, style
+
+    engines = []
+    for f in folders:
+        engines += [e for e in f.engines() if e not in engines]
+        for name in ("work_precision.csv", "stability.csv", "convergence.csv"):
+            if f.has(name):
+                keys = [style.config_key(e, i) for e, i in style.configs(f.table(name))]
+                engines += [k for k in keys if k not in engines]
+    ctx = Context(outdir, args.svg, style.Colors(engines), snapshot_times, args.tolerance)
+
+    figures = []
+    for plot in ALL:
+        if any(plot.available(f) for f in folders):
+            path = plot.draw(folders, ctx)
+            figures.append((plot.TITLE, plot.CAPTION, path))
+
+    groups = []
+    for f in folders:
+        prefix = f"{f.label}: " if len(folders) > 1 else ""
+        groups += [(prefix + h, lines) for h, lines in verdicts.run_verdicts(f)]
+        groups += [(prefix + h, lines) for h, lines in verdicts.sweep_verdicts(f)]
+    if len(folders) == 2:
+        groups = verdicts.compare_verdicts(*folders) + groups
+    params = [(f.label, style.scenario_params(f)) for f in folders]
+    text = page.build(folders, figures, groups, notes_for(folders), params)
+
+    target = os.path.join(outdir, "report.html")
+    tmp = target + ".tmp"
+    with open(tmp, "w", encoding="utf-8") as fh:
+        fh.write(text)
+    os.replace(tmp, target)
+    print(f"wrote {target} ({len(figures)} plots: "
+          f"{', '.join(os.path.basename(p) for _, _, p in figures)})")
+    return 0
+
+
+def main(argv=None):
+    try:
+        return run(sys.argv[1:] if argv is None else argv)
+    except ReportError as e:
+        print(f"{PROG}: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        return 130
+
+
+if __name__ == "__main__":
+    sys.exit(main())

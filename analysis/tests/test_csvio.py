@@ -1,0 +1,99 @@
+"""csvio: schemas, tolerance of extra columns, C++ number spellings, quoted fields."""
+
+import math
+import os
+import shutil
+import tempfile
+import unittest
+
+import numpy as np
+
+from analysis.csvio import SCHEMAS, ReportError, read_table
+from analysis.verdicts import length, num
+
+
+class ReadTable(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="clothbench-csv-")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def write(self, name, text):
+        path = os.path.join(self.tmp, name)
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(text)
+        return path
+
+    def test_extra_columns_are_kept_as_text(self):
+        header = ",".join(SCHEMAS["convergence.csv"].required) + ",note"
+        t = read_table(self.write("convergence.csv", header + "\ncustom,rk4,3.98,5,fine\n"))
+        self.assertEqual(t["note"][0], "fine")
+        self.assertAlmostEqual(t["order"][0], 3.98)
+
+    def test_columns_in_any_order(self):
+        t = read_table(self.write("convergence.csv",
+                                  "points,order,integrator,engine\n4,2.0,midpoint,custom\n"))
+        self.assertEqual(t["integrator"][0], "midpoint")
+        self.assertEqual(t["points"][0], 4.0)
+
+    def test_cpp_number_spellings_and_empty_fields(self):
+        header = ",".join(SCHEMAS["stability.csv"].required)
+        t = read_table(self.write("stability.csv",
+                                  header + '\ncustom,rk4,1e-4,inf,,nan,"strain, mode 3"\n'))
+        self.assertEqual(t["stable_dt"][0], 1e-4)
+        self.assertTrue(math.isinf(t["first_unstable_dt"][0]))
+        self.assertTrue(math.isnan(t["predicted_dt"][0]))
+        self.assertTrue(math.isnan(t["ratio_measured_to_predicted"][0]))
+        self.assertEqual(t["cause"][0], "strain, mode 3")
+
+    def test_blank_lines_and_crlf(self):
+        header = ",".join(SCHEMAS["convergence.csv"].required)
+        t = read_table(self.write("convergence.csv", header + "\r\ncustom,rk4,4,5\r\n\r\n"))
+        self.assertEqual(len(t), 1)
+
+    def test_missing_file(self):
+        with self.assertRaisesRegex(ReportError, "frames.csv: file not found"):
+            read_table(os.path.join(self.tmp, "frames.csv"))
+
+    def test_every_missing_column_is_named(self):
+        with self.assertRaisesRegex(ReportError, "columns 'order', 'points'"):
+            read_table(self.write("convergence.csv", "engine,integrator\ncustom,rk4\n"))
+
+    def test_select_and_unique(self):
+        header = ",".join(SCHEMAS["convergence.csv"].required)
+        t = read_table(self.write("convergence.csv", header + "\nb,rk4,4,5\na,x,1,3\nb,y,2,4\n"))
+        self.assertEqual(t.unique("engine"), ["b", "a"])
+        np.testing.assert_array_equal(t.select(engine="b")["order"], [4.0, 2.0])
+
+
+class Formatting(unittest.TestCase):
+    def test_numbers(self):
+        self.assertEqual(num(2e-4), "2e-4")
+        self.assertEqual(num(20000.0), "20000")
+        self.assertEqual(num(0.15), "0.15")
+        self.assertEqual(num(float("nan")), "n/a")
+
+    def test_lengths(self):
+        self.assertEqual(length(0.00128), "1.28 mm")
+        self.assertEqual(length(2.5e-5), "25 µm")
+        self.assertEqual(length(1.5), "1.5 m")
+
+
+class PlotHelpers(unittest.TestCase):
+    def test_pareto_front(self):
+        from analysis.plots.work_precision import pareto
+        x = np.array([1.0, 2.0, 3.0, 4.0, 0.5])
+        y = np.array([1e-2, 1e-3, 2e-3, 1e-5, 1e-1])
+        self.assertEqual(pareto(x, y), [4, 0, 1, 3])
+
+    def test_snapshot_choice(self):
+        from analysis.plots.drape import choose_times
+        times = [0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0]
+        self.assertEqual(choose_times(times), [0.0, 1.0, 2.0, 3.0])
+        self.assertEqual(choose_times(times, wanted=[0.4, 2.9]), [0.5, 3.0])
+        self.assertEqual(choose_times([0.0, 3.0]), [0.0, 3.0])
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,128 @@
+"""Bad input gives one clear line on stderr naming the file, exit code 2, no traceback."""
+
+import os
+import shutil
+import tempfile
+import unittest
+
+from analysis.tests import reportcheck as rc
+
+
+def rewrite(path, edit):
+    """Replace a file's text by edit(text)."""
+    with open(path, encoding="utf-8") as f:
+        text = f.read()
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(edit(text))
+
+
+def drop_column(text, name):
+    lines = text.splitlines()
+    k = lines[0].split(",").index(name)
+    return "\n".join(",".join(c for n, c in enumerate(line.split(",")) if n != k)
+                     for line in lines) + "\n"
+
+
+def replace_line(text, number, new):
+    lines = text.splitlines()
+    lines[number - 1] = new(lines[number - 1])
+    return "\n".join(lines) + "\n"
+
+
+class BadInput(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="clothbench-bad-")
+        self.run = os.path.join(self.tmp, "run")
+        self.sweep = os.path.join(self.tmp, "sweep")
+        shutil.copytree(os.path.join(rc.FIXTURES, "run"), self.run)
+        shutil.copytree(os.path.join(rc.FIXTURES, "sweep"), self.sweep)
+        self.out = os.path.join(self.tmp, "out")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def assert_fails(self, folder, *fragments, args=()):
+        result = rc.run_report(folder, "--out", self.out, *args)
+        self.assertEqual(result.returncode, 2, f"stdout: {result.stdout}\nstderr: {result.stderr}")
+        self.assertNotIn("Traceback", result.stderr)
+        self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+        self.assertTrue(result.stderr.startswith("report: error: "), result.stderr)
+        for fragment in fragments:
+            self.assertIn(fragment, result.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "report.html")))
+        return result.stderr
+
+    def test_missing_folder(self):
+        self.assert_fails(os.path.join(self.tmp, "nowhere"), "nowhere", "no such folder")
+
+    def test_folder_without_csv(self):
+        empty = os.path.join(self.tmp, "empty")
+        os.mkdir(empty)
+        self.assert_fails(empty, "empty", "no clothbench CSV file found", "frames.csv")
+
+    def test_missing_column(self):
+        rewrite(os.path.join(self.run, "frames.csv"), lambda t: drop_column(t, "energy_error"))
+        self.assert_fails(self.run, "frames.csv", "missing required column 'energy_error'")
+
+    def test_missing_sweep_column(self):
+        rewrite(os.path.join(self.sweep, "work_precision.csv"),
+                lambda t: drop_column(t, "wall_s_per_sim_s"))
+        self.assert_fails(self.sweep, "work_precision.csv", "'wall_s_per_sim_s'")
+
+    def test_value_not_a_number(self):
+        rewrite(os.path.join(self.run, "summary.csv"),
+                lambda t: replace_line(t, 3, lambda line: line.replace(",0.0002,", ",fast,", 1)))
+        self.assert_fails(self.run, "summary.csv line 3, column 'dt'", "expected a number",
+                          "'fast'")
+
+    def test_truncated_row(self):
+        rewrite(os.path.join(self.run, "divergence.csv"),
+                lambda t: replace_line(t, 5, lambda line: line.rsplit(",", 2)[0]))
+        self.assert_fails(self.run, "divergence.csv line 5", "6 fields, but the header has 8")
+
+    def test_empty_file(self):
+        open(os.path.join(self.run, "snapshots.csv"), "w").close()
+        self.assert_fails(self.run, "snapshots.csv", "empty file")
+
+    def test_bad_flag(self):
+        rewrite(os.path.join(self.run, "frames.csv"),
+                lambda t: replace_line(t, 2, lambda line: line[:-1] + "maybe"))
+        self.assert_fails(self.run, "frames.csv line 2, column 'stable'", "expected 0 or 1")
+
+    def test_empty_key(self):
+        rewrite(os.path.join(self.run, "snapshots.csv"),
+                lambda t: replace_line(t, 4, lambda line: "," + line.split(",", 1)[1]))
+        self.assert_fails(self.run, "snapshots.csv line 4, column 'engine'", "empty value")
+
+    def test_fractional_grid_index(self):
+        rewrite(os.path.join(self.run, "snapshots.csv"),
+                lambda t: replace_line(t, 2, lambda line: ",".join(
+                    "0.5" if n == 2 else c for n, c in enumerate(line.split(",")))))
+        self.assert_fails(self.run, "snapshots.csv", "column 'i'", "grid indices")
+
+    def test_malformed_scenario(self):
+        rewrite(os.path.join(self.run, "scenario.toml"), lambda t: t + "\n[cloth\n")
+        self.assert_fails(self.run, "scenario.toml", "not valid TOML")
+
+    def test_malformed_run_json(self):
+        rewrite(os.path.join(self.run, "run.json"), lambda t: t[:-5])
+        self.assert_fails(self.run, "run.json", "not valid JSON")
+
+    def test_bad_compare_folder(self):
+        rewrite(os.path.join(self.sweep, "stability.csv"), lambda t: drop_column(t, "cause"))
+        self.assert_fails(self.run, "stability.csv", "'cause'", args=("--compare", self.sweep))
+
+    def test_bad_labels(self):
+        self.assert_fails(self.run, "--labels", args=("--labels", "a,b"))
+
+    def test_header_only_file_is_not_an_error(self):
+        rewrite(os.path.join(self.run, "divergence.csv"), lambda t: t.splitlines()[0] + "\n")
+        result = rc.run_report(self.run, "--out", self.out)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.out, "divergence.png")))
+        with open(os.path.join(self.out, "report.html"), encoding="utf-8") as f:
+            self.assertIn("divergence.csv has a header but no rows.", f.read())
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,149 @@
+"""End-to-end: report.py on run, sweep and compare folders gives every image and one page.
+
+The same checks run on real folders when CLOTHBENCH_RUN_DIR / CLOTHBENCH_SWEEP_DIR are set.
+"""
+
+import os
+import shutil
+import tempfile
+import unittest
+
+from analysis.tests import reportcheck as rc
+
+
+class ReportChecks:
+    """Mixin: build the report of `folders` once, then check images and page.
+
+    folders      input folders (the second one is passed with --compare)
+    extra_args   more command-line arguments
+    must_have    CSV files the folder must hold (a real run without them is a failure)
+    """
+
+    folders = ()
+    extra_args = ()
+    must_have = ()
+
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.mkdtemp(prefix="clothbench-report-")
+        cls.out = os.path.join(cls.tmp, "out")
+        args = [cls.folders[0]]
+        if len(cls.folders) > 1:
+            args += ["--compare", cls.folders[1]]
+        cls.result = rc.run_report(*args, "--out", cls.out, *cls.extra_args)
+        cls.expected = rc.expected_images(*cls.folders)
+
+    @classmethod
+    def tearDownClass(cls):
+        shutil.rmtree(cls.tmp, ignore_errors=True)
+
+    def test_folder_holds_the_files(self):
+        for name in self.must_have:
+            path = os.path.join(self.folders[0], name)
+            self.assertTrue(os.path.exists(path) and rc.has_rows(path),
+                            f"{path}: missing or without rows")
+
+    def test_exits_zero(self):
+        self.assertEqual(self.result.returncode, 0, self.result.stderr)
+        self.assertNotIn("Traceback", self.result.stderr)
+        self.assertIn("report.html", self.result.stdout)
+
+    def test_every_expected_image_is_a_sensible_png(self):
+        self.assertTrue(self.expected, "the folder gives no image at all")
+        for stem in self.expected:
+            path = os.path.join(self.out, stem + ".png")
+            with self.subTest(image=stem):
+                self.assertTrue(os.path.exists(path), f"{path} not written")
+                width, height = rc.png_size(path)
+                self.assertTrue(rc.MIN_W <= width <= rc.MAX_W, f"{path}: width {width}")
+                self.assertTrue(rc.MIN_H <= height <= rc.MAX_H, f"{path}: height {height}")
+
+    def test_no_unexpected_image(self):
+        written = sorted(f[:-4] for f in os.listdir(self.out) if f.endswith(".png"))
+        self.assertEqual(written, sorted(self.expected))
+
+    def test_page_is_self_contained(self):
+        with open(os.path.join(self.out, "report.html"), encoding="utf-8") as f:
+            text = f.read()
+        self.assertEqual(rc.html_problems(text, len(self.expected)), [])
+
+
+class RunFixture(ReportChecks, unittest.TestCase):
+    folders = (os.path.join(rc.FIXTURES, "run"),)
+    must_have = ("frames.csv", "divergence.csv", "snapshots.csv", "summary.csv")
+
+    def test_verdicts_name_the_unstable_engine(self):
+        with open(os.path.join(self.out, "report.html"), encoding="utf-8") as f:
+            text = f.read()
+        self.assertIn("custom-explicit: UNSTABLE, blew up at t = 0.15 s", text)
+        self.assertIn("custom-rk4: stable for the whole run", text)
+        self.assertIn("custom-symplectic vs custom-rk4: RMS distance", text)
+        self.assertIn("Drape coefficients:", text)
+
+
+class SweepFixture(ReportChecks, unittest.TestCase):
+    folders = (os.path.join(rc.FIXTURES, "sweep"),)
+    extra_args = ("--svg",)
+
+    def test_svg_besides_png(self):
+        for stem in self.expected:
+            with open(os.path.join(self.out, stem + ".svg"), encoding="utf-8") as f:
+                self.assertIn("<svg", f.read(4000))
+
+    def test_verdicts_in_words(self):
+        with open(os.path.join(self.out, "report.html"), encoding="utf-8") as f:
+            text = f.read()
+        self.assertIn("custom / rk4: measured order 3.99 from 5 points (expected 4)", text)
+        self.assertIn("Cheapest within tolerance 1e-4 m overall: custom / midpoint", text)
+        self.assertIn("measured / predicted 0.97 (within 10 %)", text)
+
+
+class CompareFixtures(ReportChecks, unittest.TestCase):
+    folders = (os.path.join(rc.FIXTURES, "run"), os.path.join(rc.FIXTURES, "run_after"))
+    extra_args = ("--labels", "before,after")
+
+    def test_changes_in_words(self):
+        with open(os.path.join(self.out, "report.html"), encoding="utf-8") as f:
+            text = f.read()
+        self.assertIn("custom-explicit: unstable (blew up at t = 0.15 s) in before, stable in "
+                      "after.", text)
+        self.assertIn("drawn with solid lines", text)
+
+
+class PartialFolder(ReportChecks, unittest.TestCase):
+    """A folder with frames.csv alone (no scenario, no summary) still gives its two plots."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.src = tempfile.mkdtemp(prefix="clothbench-partial-")
+        shutil.copy(os.path.join(rc.FIXTURES, "run", "frames.csv"), cls.src)
+        cls.folders = (cls.src,)
+        super().setUpClass()
+
+    @classmethod
+    def tearDownClass(cls):
+        super().tearDownClass()
+        shutil.rmtree(cls.src, ignore_errors=True)
+
+    def test_only_frame_plots(self):
+        self.assertEqual(sorted(self.expected), ["energy", "strain"])
+
+
+@unittest.skipUnless(os.environ.get("CLOTHBENCH_RUN_DIR"), "CLOTHBENCH_RUN_DIR not set")
+class RealRun(ReportChecks, unittest.TestCase):
+    folders = (os.environ.get("CLOTHBENCH_RUN_DIR", ""),)
+    must_have = ("frames.csv", "divergence.csv", "snapshots.csv", "summary.csv")
+
+
+@unittest.skipUnless(os.environ.get("CLOTHBENCH_SWEEP_DIR"), "CLOTHBENCH_SWEEP_DIR not set")
+class RealSweep(ReportChecks, unittest.TestCase):
+    folders = (os.environ.get("CLOTHBENCH_SWEEP_DIR", ""),)
+
+    def test_folder_holds_sweep_results(self):
+        names = ("stability.csv", "work_precision.csv")
+        self.assertTrue(any(os.path.exists(os.path.join(self.folders[0], n)) for n in names),
+                        f"{self.folders[0]}: neither {' nor '.join(names)}")
+
+
+if __name__ == "__main__":
+    unittest.main()

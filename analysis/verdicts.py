@@ -1,0 +1,275 @@
+"""The report's verdicts in words: stability, energy, divergence, drape, sweeps, and changes.
+
+Each function returns a list of (heading, [(kind, text), ...]) where kind is "ok", "bad" or
+"info" (how the page colours the line). Text is plain (the page escapes it).
+"""
+
+import math
+
+import numpy as np
+
+# order of accuracy of the custom engine's integrators (cloth::integrator_order)
+EXPECTED_ORDER = {"explicit-euler": 1, "symplectic-euler": 1, "picard-implicit": 1,
+                  "midpoint": 2, "rk4": 4, "implicit-euler": 1}
+
+
+def num(x, sig=3):
+    """A number with 3 significant digits and a short exponent (2e-4)."""
+    if isinstance(x, str):
+        return x
+    if x is None or (isinstance(x, float) and math.isnan(x)):
+        return "n/a"
+    if x == 0:
+        return "0"
+    if math.isinf(x):
+        return "infinite"
+    if 1e-3 <= abs(x) < 1e6:
+        text = f"{x:.{sig}g}"
+        return text if "e" not in text else f"{x:.0f}"
+    mant, exp = f"{x:.{sig - 1}e}".split("e")
+    return f"{mant.rstrip('0').rstrip('.')}e{int(exp)}"
+
+
+def length(x):
+    """A distance in m, mm or µm."""
+    if x is None or not math.isfinite(x):
+        return num(x)
+    a = abs(x)
+    if a == 0:
+        return "0 m"
+    if a >= 1:
+        return f"{x:.3g} m"
+    if a >= 1e-3:
+        return f"{x * 1e3:.3g} mm"
+    if a >= 1e-6:
+        return f"{x * 1e6:.3g} µm"
+    return f"{num(x)} m"
+
+
+def _finite(v):
+    return isinstance(v, (int, float)) and math.isfinite(v)
+
+
+def _sorted_rows(table, engine):
+    rows = table.select(engine=engine)
+    return rows.where(np.argsort(rows["t"], kind="stable"))
+
+
+# --- one run --------------------------------------------------------------------------------
+
+def run_verdicts(f):
+    """Verdicts of one run folder (any of frames, divergence, summary, snapshots)."""
+    groups = []
+    engines = f.engines()
+    duration = f.scenario.get("duration")
+
+    # stability
+    lines = []
+    if f.has("summary.csv") or f.has("frames.csv"):
+        for e in engines:
+            t = f.blowup(e)
+            if t is None:
+                span = f" ({num(float(duration))} s simulated)" if _finite(duration) else ""
+                lines.append(("ok", f"{e}: stable for the whole run{span}."))
+            else:
+                when = f"at t = {num(t)} s" if _finite(t) else "(time unknown)"
+                lines.append(("bad", f"{e}: UNSTABLE, blew up {when}: the largest strain passed "
+                              f"{num(f.blowup_strain())} or a coordinate became non-finite; its "
+                              f"results stop there."))
+    if lines:
+        groups.append(("Stability", lines))
+
+    # energy
+    lines = []
+    if f.has("frames.csv"):
+        frames = f.table("frames.csv")
+        for e in engines:
+            rows = _sorted_rows(frames, e)
+            rows = rows.where(rows["stable"] >= 0.5)
+            err = np.abs(rows["energy_error"])
+            err = err[np.isfinite(err)]
+            if not len(err):
+                continue
+            e0 = rows["total_energy"][0] if len(rows) else math.nan
+            rel = f" ({100 * err.max() / abs(e0):.2g} % of the initial total energy " \
+                  f"{num(float(e0))} J)" if _finite(e0) and e0 != 0 else ""
+            until = "" if f.blowup(e) is None else " before the blow-up"
+            lines.append(("info", f"{e}: energy error at most {num(float(err.max()))} J"
+                                  f"{rel}{until}."))
+    elif f.has("summary.csv"):
+        for row in f.table("summary.csv").rows():
+            if _finite(row["max_energy_error"]):
+                lines.append(("info", f"{row['engine']}: energy error at most "
+                              f"{num(abs(row['max_energy_error']))} J."))
+    if lines:
+        groups.append(("Energy", lines))
+
+    # divergence
+    lines = []
+    if f.has("divergence.csv"):
+        div = f.table("divergence.csv")
+        for e in div.unique("engine"):
+            rows = _sorted_rows(div, e)
+            ref = rows["reference"][0]
+            blow = f.blowup(e)
+            if blow is not None and _finite(blow):
+                rows = rows.where(rows["t"] < blow)
+            rms = rows["rms_distance"]
+            if not len(rows) or not np.any(np.isfinite(rms)):
+                lines.append(("bad", f"{e} vs {ref}: no finite distance before the blow-up."))
+                continue
+            k = int(np.nanargmax(rms))
+            end = "before the blow-up" if blow is not None else "at the end"
+            text = (f"{e} vs {ref}: RMS distance {length(float(rms[-1]))} {end} "
+                    f"(t = {num(float(rows['t'][-1]))} s), at most {length(float(rms[k]))} "
+                    f"(t = {num(float(rows['t'][k]))} s); largest particle distance at most "
+                    f"{length(float(np.nanmax(rows['max_distance'])))}; centres of mass "
+                    f"{length(float(rows['com_distance'][-1]))} apart {end}.")
+            lines.append(("info", text))
+    elif f.has("summary.csv"):
+        ref = f.reference()
+        for row in f.table("summary.csv").rows():
+            if row["engine"] != ref and _finite(row["final_rms_vs_reference"]):
+                lines.append(("info", f"{row['engine']} vs {ref}: final RMS distance "
+                              f"{length(row['final_rms_vs_reference'])}, at most "
+                              f"{length(row['max_rms_vs_reference'])}."))
+    if lines:
+        groups.append(("Divergence from the reference", lines))
+
+    # drape
+    lines = []
+    if f.has("summary.csv"):
+        coeffs = [(r["engine"], r["drape_coefficient"]) for r in f.table("summary.csv").rows()
+                  if _finite(r["drape_coefficient"])]
+        if coeffs:
+            values = [c for _, c in coeffs]
+            text = "Drape coefficients: " + ", ".join(f"{e} {c:.3f}" for e, c in coeffs)
+            if len(values) > 1:
+                text += f" (spread {max(values) - min(values):.3f})"
+            lines.append(("info", text + "."))
+        cost = [(r["engine"], r["us_per_step"], r["force_evals"])
+                for r in f.table("summary.csv").rows() if _finite(r["us_per_step"])]
+        if cost:
+            lines.append(("info", "Cost per step: " + ", ".join(
+                f"{e} {num(us)} µs" + (f" ({int(n)} force evaluations)" if _finite(n) else "")
+                for e, us, n in cost) + "."))
+    if lines:
+        groups.append(("Drape and cost", lines))
+    return groups
+
+
+def compare_verdicts(a, b):
+    """What changed from folder a to folder b, engine by engine."""
+    lines = []
+    ea, eb = a.engines(), b.engines()
+    for e in ea:
+        if e not in eb:
+            lines.append(("info", f"{e}: only in {a.label}."))
+            continue
+        ta, tb = a.blowup(e), b.blowup(e)
+        if (ta is None) != (tb is None):
+            became = "stable" if tb is None else f"unstable (blew up at t = {num(tb)} s)"
+            was = "stable" if ta is None else f"unstable (blew up at t = {num(ta)} s)"
+            lines.append(("ok" if tb is None else "bad",
+                          f"{e}: {was} in {a.label}, {became} in {b.label}."))
+        elif ta is not None:
+            lines.append(("bad", f"{e}: unstable in both (blew up at t = {num(ta)} s in {a.label}, "
+                          f"t = {num(tb)} s in {b.label})."))
+        else:
+            lines.append(("ok", f"{e}: stable in both."))
+        if ta is not None or tb is not None:
+            continue  # numbers of a run that blew up do not compare with a finished one
+        ia, ib = a.engine_info(e), b.engine_info(e)
+        for col, what, fmt in (
+                ("final_rms_vs_reference", "final RMS distance from the reference", length),
+                ("max_energy_error", "largest energy error", lambda x: f"{num(x)} J"),
+                ("drape_coefficient", "drape coefficient", lambda x: f"{x:.3f}")):
+            va, vb = ia.get(col, math.nan), ib.get(col, math.nan)
+            if _finite(va) and _finite(vb) and (va != 0 or vb != 0):
+                pct = 100 * (vb - va) / abs(va) if va != 0 else math.nan
+                change = "" if math.isnan(pct) else \
+                    f" ({pct:+.1f} %)" if abs(pct) < 10 else f" ({pct:+.0f} %)"
+                lines.append(("info", f"{e}: {what} {fmt(va)} → {fmt(vb)}{change}."))
+    for e in eb:
+        if e not in ea:
+            lines.append(("info", f"{e}: only in {b.label}."))
+    return [(f"Changes from {a.label} to {b.label}", lines)] if lines else []
+
+
+# --- sweeps ---------------------------------------------------------------------------------
+
+def _key(engine, integrator):
+    return f"{engine} / {integrator}" if integrator else str(engine)
+
+
+def sweep_verdicts(f):
+    groups = []
+    if f.has("stability.csv"):
+        lines = []
+        for r in f.table("stability.csv").rows():
+            key = _key(r["engine"], r["integrator"])
+            if not _finite(r["stable_dt"]):
+                lines.append(("bad", f"{key}: no stable time step found."))
+                continue
+            text = f"{key}: largest stable dt {num(r['stable_dt'])} s"
+            if _finite(r["first_unstable_dt"]):
+                text += f" (first failure at {num(r['first_unstable_dt'])} s"
+                text += f", {r['cause']})" if r["cause"] else ")"
+            else:
+                text += " (no failure up to the largest step tried)"
+            kind = "info"
+            if _finite(r["predicted_dt"]):
+                ratio = r["ratio_measured_to_predicted"]
+                if not _finite(ratio):
+                    ratio = r["stable_dt"] / r["predicted_dt"]
+                within = abs(ratio - 1.0) <= 0.10
+                kind = "ok" if within else "bad"
+                text += (f"; predicted {num(r['predicted_dt'])} s, measured / predicted "
+                         f"{ratio:.2f} ({'within' if within else 'outside'} 10 %)")
+            else:
+                text += "; no predicted limit"
+            lines.append((kind, text + "."))
+        groups.append(("Stability limits", lines))
+
+    if f.has("convergence.csv"):
+        lines = []
+        for r in f.table("convergence.csv").rows():
+            key = _key(r["engine"], r["integrator"])
+            if not _finite(r["order"]):
+                lines.append(("bad", f"{key}: no order fitted."))
+                continue
+            pts = f" from {int(r['points'])} points" if _finite(r["points"]) else ""
+            text = f"{key}: measured order {r['order']:.2f}{pts}"
+            expected = EXPECTED_ORDER.get(r["integrator"]) if r["engine"] != "" and \
+                not str(r["engine"]).startswith("bullet") else None
+            kind = "info"
+            if expected is not None:
+                ok = abs(r["order"] - expected) <= 0.3
+                kind = "ok" if ok else "bad"
+                text += f" (expected {expected})"
+            lines.append((kind, text + "."))
+        groups.append(("Convergence", lines))
+
+    if f.has("work_precision.csv") or f.has("recommendation.csv"):
+        lines = []
+        if f.has("work_precision.csv"):
+            wp = f.table("work_precision.csv")
+            unstable = int(np.sum(wp["stable"] < 0.5))
+            lines.append(("info", f"{len(wp)} configurations run, {unstable} of them unstable."))
+        if f.has("recommendation.csv"):
+            rec = f.table("recommendation.csv")
+            for r in sorted(rec.rows(), key=lambda r: r["scope"] != "overall"):
+                scope = "overall" if r["scope"] == "overall" else f"for {r['scope']}"
+                tol = f" within tolerance {num(r['tolerance'])} m" \
+                    if _finite(r["tolerance"]) else ""
+                lines.append(("ok", f"Cheapest{tol} {scope}: {_key(r['engine'], r['integrator'])} "
+                              f"at dt {num(r['dt'])} s (error {length(r['error_final'])}, "
+                              f"{num(r['wall_s_per_sim_s'])} s of wall time per simulated "
+                              f"second)."))
+            if f.has("work_precision.csv"):
+                scopes = set(rec["scope"])
+                for e in f.table("work_precision.csv").unique("engine"):
+                    if e not in scopes:
+                        lines.append(("bad", f"{e}: no stable configuration meets the tolerance."))
+        groups.append(("Accuracy and cost", lines))
+    return groups

@@ -1,0 +1,183 @@
+#include "reference/bullet_cloth.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+
+#include "cloth/spring_forces.hpp"
+
+namespace clothbench::reference {
+
+void check_bullet_scene(const cloth::Scene& scene, const std::string& kind) {
+  const std::string who = kind + ": ";
+  if (scene.cloth.air_drag < 0.0)
+    throw std::invalid_argument(who + "air drag must not be negative, got " +
+                                std::to_string(scene.cloth.air_drag) + " N s/m");
+  for (size_t i = 0; i < scene.spheres.size(); ++i) {
+    const cloth::Sphere& s = scene.spheres[i];
+    if (s.restitution != 0.0)
+      throw std::invalid_argument(who + "sphere " + std::to_string(i) + " has restitution " +
+                                  std::to_string(s.restitution) +
+                                  ", but Bullet's soft-body contacts are inelastic; expected 0");
+    if (s.margin != scene.spheres.front().margin)
+      throw std::invalid_argument(
+          who + "spheres with different margins (" + std::to_string(scene.spheres.front().margin) +
+          " and " + std::to_string(s.margin) + " m): a Bullet soft body has one contact margin");
+    if (!(s.margin > 0.0))
+      throw std::invalid_argument(who + "sphere " + std::to_string(i) +
+                                  " needs a positive contact margin, got " +
+                                  std::to_string(s.margin) + " m");
+  }
+  for (size_t p = 0; p < scene.held.size(); ++p)
+    if (scene.held[p] & ~cloth::kHoldAll)
+      throw std::invalid_argument(who + "particle " + std::to_string(p) +
+                                  " has a held-axis mask with bits other than x, y and z (" +
+                                  std::to_string(int(scene.held[p])) + ")");
+}
+
+btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model,
+                            const LinkMaterial& material) {
+  const int n = model.particle_count();
+  // nodes in our order; a particle held on all axes is a pin: mass 0, which Bullet never moves
+  std::vector<btVector3> x(static_cast<size_t>(n));
+  std::vector<btScalar> mass(static_cast<size_t>(n));
+  for (int p = 0; p < n; ++p) {
+    x[size_t(p)] = to_bt(model.x0.col(p));
+    const bool pinned = model.free.col(p).isZero();
+    mass[size_t(p)] = pinned ? 0.0 : model.mass[p];
+  }
+  auto* body = new btSoftBody(&info, n, x.data(), mass.data());
+  // links in our order; Bullet takes the rest length from the same rest positions
+  for (const cloth::SpringLink& s : model.springs.links()) {
+    body->appendLink(s.a, s.b, material(*body, s), false);
+    btSoftBody::Link& l = body->m_links[body->m_links.size() - 1];
+    l.m_bbending = s.kind == cloth::SpringKind::bend ? 1 : 0;
+  }
+  // two triangles per grid cell, for collision normals and Bullet's face-based queries
+  for (int j = 0; j + 1 < model.nv; ++j) {
+    for (int i = 0; i + 1 < model.nu; ++i) {
+      const int p = j * model.nu + i;
+      body->appendFace(p, p + 1, p + model.nu + 1);
+      body->appendFace(p, p + model.nu + 1, p + model.nu);
+    }
+  }
+  return body;
+}
+
+double sdf_voxel_size(const std::vector<cloth::Sphere>& spheres) {
+  // Bullet's default cell of 0.25 m would put the unit sphere's surface ~8 mm off
+  double voxel = 0.25;
+  for (const cloth::Sphere& s : spheres) voxel = std::min(voxel, s.radius / 20.0);
+  return voxel;
+}
+
+void set_up_world(btDiscreteDynamicsWorld& world, btSoftBodyWorldInfo& info,
+                  const cloth::Scene& scene) {
+  world.setGravity(to_bt(scene.gravity));
+  info.m_gravity = to_bt(scene.gravity);
+  info.m_sparsesdf.setDefaultVoxelsz(sdf_voxel_size(scene.spheres));
+  info.m_sparsesdf.Reset();
+}
+
+void step_world(btDiscreteDynamicsWorld& world, btSoftBodyWorldInfo& info, SphereBodies& spheres,
+                double t, double dt) {
+  spheres.move_to(t + dt);
+  world.stepSimulation(dt, 0, dt);
+  info.m_sparsesdf.GarbageCollect();
+}
+
+void set_contact_config(btSoftBody& body, const cloth::Scene& scene) {
+  btSoftBody::Config& cfg = body.m_cfg;
+  cfg.kCHR = 1.0;
+  cfg.kKHR = 1.0;  // Bullet's default 0.1 makes static spheres ten times softer
+  cfg.kDF = 1.0;
+  body.getCollisionShape()->setMargin(scene.spheres.empty() ? 0.01 : scene.spheres.front().margin);
+  body.setActivationState(DISABLE_DEACTIVATION);
+}
+
+SphereBodies::SphereBodies(btDiscreteDynamicsWorld& world,
+                           const std::vector<cloth::Sphere>& spheres)
+    : m_world(world), m_spheres(spheres) {
+  for (const cloth::Sphere& s : spheres) {
+    btTransform pose;
+    pose.setIdentity();
+    pose.setOrigin(to_bt(s.center));
+    m_shapes.push_back(std::make_unique<btSphereShape>(s.radius));
+    m_states.push_back(std::make_unique<btDefaultMotionState>(pose));
+    btRigidBody::btRigidBodyConstructionInfo ci(0.0, m_states.back().get(), m_shapes.back().get());
+    ci.m_friction = s.friction;
+    ci.m_restitution = 0.0;
+    m_bodies.push_back(std::make_unique<btRigidBody>(ci));
+    btRigidBody& b = *m_bodies.back();
+    // a moving sphere is kinematic: Bullet reads its pose from the motion state every step
+    if (!s.velocity.isZero()) {
+      b.setCollisionFlags(b.getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+    }
+    b.setActivationState(DISABLE_DEACTIVATION);
+    m_world.addRigidBody(&b);
+  }
+}
+
+SphereBodies::~SphereBodies() {
+  for (auto& b : m_bodies) m_world.removeRigidBody(b.get());
+}
+
+void SphereBodies::move_to(double t) {
+  for (size_t i = 0; i < m_spheres.size(); ++i) {
+    if (m_spheres[i].velocity.isZero()) continue;
+    btTransform pose;
+    pose.setIdentity();
+    pose.setOrigin(to_bt(m_spheres[i].center_at(t)));
+    m_states[i]->setWorldTransform(pose);
+  }
+}
+
+BulletCloth::BulletCloth(const cloth::Scene& scene) : m_model(cloth::build_model(scene)) {
+  const int n = m_model.particle_count();
+  m_x = m_model.x0;
+  m_v = cloth::Matrix3X::Zero(3, n);
+  for (int p = 0; p < n; ++p)
+    for (int a = 0; a < 3; ++a)
+      if (m_model.free(a, p) == 0.0) m_holds.push_back({p, a, m_model.x0(a, p)});
+}
+
+void BulletCloth::step(double dt) {
+  advance(dt);
+  apply_air_drag(dt);
+  project_held_axes();
+  // copy the nodes back in our order
+  const btSoftBody::tNodeArray& nodes = m_body->m_nodes;
+  for (int p = 0; p < nodes.size(); ++p) {
+    for (int a = 0; a < 3; ++a) {
+      m_x(a, p) = nodes[p].m_x[a];
+      m_v(a, p) = nodes[p].m_v[a];
+    }
+  }
+  // the damping power of the new state (springs and drag), as the custom implicit engine books it
+  m_dissipated +=
+      dt * (cloth::damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
+  m_t += dt;
+  ++m_counters.steps;
+}
+
+void BulletCloth::apply_air_drag(double dt) {
+  if (m_model.air_drag == 0.0) return;
+  for (int p = 0; p < m_body->m_nodes.size(); ++p) {
+    // m v' = m v - h c v': the drag sub-step solved implicitly, unconditionally stable
+    const double scale = 1.0 / (1.0 + dt * m_model.air_drag * m_model.inv_mass[p]);
+    btSoftBody::Node& n = m_body->m_nodes[p];
+    n.m_v *= scale;
+    n.m_vn *= scale;
+  }
+}
+
+void BulletCloth::project_held_axes() {
+  for (const Hold& h : m_holds) {
+    btSoftBody::Node& n = m_body->m_nodes[h.node];
+    n.m_x[h.axis] = h.value;
+    n.m_q[h.axis] = h.value;
+    n.m_v[h.axis] = 0.0;
+    n.m_vn[h.axis] = 0.0;
+  }
+}
+
+}  // namespace clothbench::reference

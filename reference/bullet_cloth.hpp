@@ -1,0 +1,141 @@
+#pragma once
+/// @file bullet_cloth.hpp
+/// What both Bullet adapters share (internal to reference/, the only code that includes
+/// Bullet): the checks every Bullet engine makes on a scene, the soft body built node by node
+/// and link by link from our model, the spheres as rigid bodies, held axes restored by
+/// projection, and the Simulator bookkeeping done the same way as the custom engine's.
+
+#include <BulletSoftBody/btSoftBody.h>
+#include <BulletSoftBody/btSoftBodyRigidBodyCollisionConfiguration.h>
+#include <btBulletDynamicsCommon.h>
+
+#include <functional>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "cloth/model.hpp"
+#include "cloth/scene.hpp"
+#include "cloth/simulator.hpp"
+
+namespace clothbench::reference {
+
+/// Our vector as Bullet's.
+inline btVector3 to_bt(const cloth::Vector3& v) {
+  return btVector3(v.x(), v.y(), v.z());
+}
+
+/// Throws std::invalid_argument, naming the engine kind and the feature, for what no Bullet
+/// soft body can model the way the scene means it: restitution (Bullet's soft contacts are
+/// inelastic), spheres with different contact margins (one margin per soft body), negative
+/// air drag and held-axis masks with bits other than x, y and z.
+void check_bullet_scene(const cloth::Scene& scene, const std::string& kind);
+
+/// Picks the material of one link (nullptr: the body's default material).
+using LinkMaterial =
+    std::function<btSoftBody::Material*(btSoftBody& body, const cloth::SpringLink&)>;
+
+/// A soft body with our particles as nodes (same order; pinned particles, all axes held, get
+/// mass 0), our springs as links (same order, rest lengths from the same rest positions, bend
+/// links flagged m_bbending) and two triangles per grid cell as faces. The caller adds it to
+/// a world and owns it.
+/// @param info      the world's soft-body info (gravity, sparse SDF)
+/// @param material  material of each link
+btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model,
+                            const LinkMaterial& material);
+
+/// Sparse-SDF voxel size (m) fine enough that the interpolated sphere surface is within
+/// radius / 3200 of the true one (trilinear error ~ voxel^2 / (8 radius)).
+double sdf_voxel_size(const std::vector<cloth::Sphere>& spheres);
+
+/// The scene's spheres as rigid bodies: static, or kinematic when they move.
+class SphereBodies {
+ public:
+  /// Adds the spheres to world with the scene's friction; world must outlive this object.
+  SphereBodies(btDiscreteDynamicsWorld& world, const std::vector<cloth::Sphere>& spheres);
+  /// Removes the bodies from the world and frees them.
+  ~SphereBodies();
+  SphereBodies(const SphereBodies&) = delete;
+  SphereBodies& operator=(const SphereBodies&) = delete;
+
+  /// Puts the kinematic spheres where they are at time t (s); Bullet takes their velocity
+  /// from the change of pose over the next step.
+  void move_to(double t);
+
+ private:
+  btDiscreteDynamicsWorld& m_world;
+  std::vector<cloth::Sphere> m_spheres;
+  std::vector<std::unique_ptr<btSphereShape>> m_shapes;
+  std::vector<std::unique_ptr<btDefaultMotionState>> m_states;
+  std::vector<std::unique_ptr<btRigidBody>> m_bodies;
+};
+
+/// The collision machinery every soft-body world is built on. Declare it before the world
+/// so that it outlives it.
+struct CollisionParts {
+  std::unique_ptr<btSoftBodyRigidBodyCollisionConfiguration> config =
+      std::make_unique<btSoftBodyRigidBodyCollisionConfiguration>();
+  std::unique_ptr<btCollisionDispatcher> dispatcher =
+      std::make_unique<btCollisionDispatcher>(config.get());
+  std::unique_ptr<btDbvtBroadphase> broadphase = std::make_unique<btDbvtBroadphase>();
+};
+
+/// Sets the gravity of world and of its soft bodies (info, where classic soft bodies read
+/// it), and a sparse-SDF voxel fine enough for the spheres.
+void set_up_world(btDiscreteDynamicsWorld& world, btSoftBodyWorldInfo& info,
+                  const cloth::Scene& scene);
+
+/// One fixed step of world: the kinematic spheres moved to their pose at t + dt,
+/// stepSimulation(dt, 0, dt), then sparse-SDF cells unused for a while dropped (as Bullet's
+/// own demos do every frame).
+void step_world(btDiscreteDynamicsWorld& world, btSoftBodyWorldInfo& info, SphereBodies& spheres,
+                double t, double dt);
+
+/// The contact settings both engines share: node contacts as hard against static and
+/// kinematic spheres as against dynamic ones (kCHR = kKHR = 1), friction = the sphere's
+/// (kDF = 1), the scene's margin, never put to sleep.
+void set_contact_config(btSoftBody& body, const cloth::Scene& scene);
+
+/// The Simulator side of a Bullet engine: our model, the state copied from the nodes after
+/// every step, dissipation and counters kept like the custom engine's. What Bullet's soft
+/// bodies lack is added after every Bullet step (operator splitting, first order in dt like
+/// the engines it is compared with): the scene's viscous air drag, then the held axes.
+class BulletCloth : public cloth::Simulator {
+ public:
+  void step(double dt) override;
+  const cloth::Matrix3X& positions() const override { return m_x; }
+  const cloth::Matrix3X& velocities() const override { return m_v; }
+  double time() const override { return m_t; }
+  double dissipated() const override { return m_dissipated; }
+  cloth::Counters counters() const override { return m_counters; }
+
+ protected:
+  explicit BulletCloth(const cloth::Scene& scene);
+
+  /// Advances the Bullet world by one step of dt seconds.
+  virtual void advance(double dt) = 0;
+  /// The soft body holding the cloth (set by the derived constructor).
+  btSoftBody* m_body = nullptr;
+  cloth::Model m_model;
+
+ private:
+  /// Applies the air drag -c v of the scene to the node velocities over a step of dt (Bullet
+  /// has no linear drag on nodes; its m_cfg.drag is lost by the deformable implicit scheme).
+  void apply_air_drag(double dt);
+  /// Restores held coordinates to their initial values and zeroes held velocity components
+  /// on the nodes (m_x, m_q, m_v and m_vn, so the next step starts from the projected state).
+  void project_held_axes();
+
+  struct Hold {
+    int node = 0;
+    int axis = 0;
+    double value = 0;  // m
+  };
+  std::vector<Hold> m_holds;
+  cloth::Matrix3X m_x, m_v;
+  double m_t = 0;
+  double m_dissipated = 0;
+  cloth::Counters m_counters;
+};
+
+}  // namespace clothbench::reference

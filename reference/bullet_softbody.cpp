@@ -1,0 +1,129 @@
+#include "reference/bullet_softbody.hpp"
+
+#include <BulletSoftBody/btSoftRigidDynamicsWorld.h>
+
+#include <cmath>
+#include <map>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "reference/bullet_cloth.hpp"
+#include "reference/link_stiffness.hpp"
+
+namespace clothbench::reference {
+
+namespace {
+
+constexpr const char* kKind = "bullet-softbody";
+
+/// Refuses bad options and what the classic soft body cannot model.
+void check_softbody(const BulletOptions& o, double dt, const cloth::Scene& scene) {
+  check_bullet_scene(scene, kKind);
+  const std::string who = std::string(kKind) + ": ";
+  if (o.stiffness != "matched" && o.stiffness != "klst")
+    throw std::invalid_argument(who + "stiffness must be \"matched\" or \"klst\", got \"" +
+                                o.stiffness + "\"");
+  if (o.stiffness == "klst" && !(o.klst > 0.0 && o.klst <= 1.0))
+    throw std::invalid_argument(who + "klst must be in (0, 1], got " + std::to_string(o.klst));
+  if (o.iterations < 1)
+    throw std::invalid_argument(who + "iterations must be at least 1, got " +
+                                std::to_string(o.iterations));
+  if (!(dt > 0.0))
+    throw std::invalid_argument(who + "dt must be positive, got " + std::to_string(dt));
+  if (o.implicit || o.line_search)
+    throw std::invalid_argument(who + "implicit and line_search are bullet-deformable options");
+  // Bullet's classic friction is kDF * friction with kDF in [0, 1]
+  for (size_t i = 0; i < scene.spheres.size(); ++i)
+    if (scene.spheres[i].friction > 1.0)
+      throw std::invalid_argument(who + "sphere " + std::to_string(i) + " has friction " +
+                                  std::to_string(scene.spheres[i].friction) +
+                                  ", but the classic soft body's friction is at most 1");
+}
+
+/// One cloth in its own classic soft-rigid world.
+class BulletSoftBodyCloth final : public BulletCloth {
+ public:
+  BulletSoftBodyCloth(const BulletOptions& o, double dt, const cloth::Scene& scene)
+      : BulletCloth(scene), m_options(o), m_dt(dt) {
+    // the world; it creates and owns its default soft-body solver
+    m_world = std::make_unique<btSoftRigidDynamicsWorld>(
+        m_parts.dispatcher.get(), m_parts.broadphase.get(), &m_constraint_solver,
+        m_parts.config.get());
+    set_up_world(*m_world, m_world->getWorldInfo(), scene);
+
+    // the cloth: one material per (spring constant, summed inverse mass) pair, so "matched"
+    // can give every link the kLST of its own isolated link
+    const cloth::VectorX im = m_model.inv_mass;
+    btSoftBodyWorldInfo& info = m_world->getWorldInfo();
+    m_body = build_soft_body(info, m_model, [&](btSoftBody& body, const cloth::SpringLink& s) {
+      const bool pin_a = m_model.free.col(s.a).isZero(), pin_b = m_model.free.col(s.b).isZero();
+      const double w = (pin_a ? 0.0 : im[s.a]) + (pin_b ? 0.0 : im[s.b]);
+      const std::pair<double, double> key(s.stiffness, w);
+      auto it = m_materials.find(key);
+      if (it == m_materials.end()) it = m_materials.emplace(key, body.appendMaterial()).first;
+      return it->second;
+    });
+    set_link_stiffness(m_dt);
+    btSoftBody::Config& cfg = m_body->m_cfg;
+    cfg.piterations = o.iterations;
+    cfg.viterations = 0;
+    cfg.diterations = 0;
+    cfg.kDP = 0.0;  // no extra velocity damping: the projection alone
+    cfg.collisions = btSoftBody::fCollision::SDF_RS;
+    set_contact_config(*m_body, scene);
+    m_world->addSoftBody(m_body);
+
+    m_spheres = std::make_unique<SphereBodies>(*m_world, scene.spheres);
+  }
+
+  ~BulletSoftBodyCloth() override {
+    // the cloth leaves the world before it is freed; members then go in reverse order
+    m_spheres.reset();
+    m_world->removeSoftBody(m_body);
+    delete m_body;
+  }
+
+ private:
+  /// Sets every material's kLST for steps of dt.
+  void set_link_stiffness(double dt) {
+    for (auto& [key, material] : m_materials) {
+      const auto [k, w] = key;
+      if (m_options.stiffness == "klst")
+        material->m_kLST = m_options.klst;
+      else  // a link between two pins never moves: any kLST will do
+        material->m_kLST = w > 0.0 ? matched_link_klst(k, w, dt, m_options.iterations) : 1.0;
+      material->m_kAST = 1.0;
+      material->m_kVST = 1.0;
+    }
+    m_dt = dt;
+  }
+
+  void advance(double dt) override {
+    // "matched" depends on dt: follow a caller that changes it
+    if (dt != m_dt && m_options.stiffness == "matched") {
+      set_link_stiffness(dt);
+      m_body->updateLinkConstants();
+    }
+    step_world(*m_world, m_world->getWorldInfo(), *m_spheres, time(), dt);
+  }
+
+  BulletOptions m_options;
+  double m_dt;
+  std::map<std::pair<double, double>, btSoftBody::Material*> m_materials;  // owned by m_body
+  // declared in the order they are needed, so they are freed in reverse
+  CollisionParts m_parts;
+  btSequentialImpulseConstraintSolver m_constraint_solver;
+  std::unique_ptr<btSoftRigidDynamicsWorld> m_world;
+  std::unique_ptr<SphereBodies> m_spheres;
+};
+
+}  // namespace
+
+std::unique_ptr<cloth::Simulator> make_bullet_softbody(const BulletOptions& options, double dt,
+                                                       const cloth::Scene& scene) {
+  check_softbody(options, dt, scene);
+  return std::make_unique<BulletSoftBodyCloth>(options, dt, scene);
+}
+
+}  // namespace clothbench::reference

@@ -1,0 +1,50 @@
+#pragma once
+/// @file regression_check.hpp
+/// `clothbench check`: rerun shipped scenarios and compare them with recorded baselines, so a
+/// change to the engine that moves a result shows up as a failing gate.
+///
+/// A scenario's baseline folder (reference/baselines/<scenario name>/) holds
+///   tolerances.toml  hand-written: how far each quantity may move, each with its reason
+///   metrics.csv      engine,quantity,value: per-engine summary figures and costs
+///   shape.csv        engine,i,j,x,y,z: the final shape of every engine
+///   stability.csv    engine,integrator,stable_dt,first_unstable_dt (when tolerances.toml
+///                    has a [stability] table)
+
+#include <string>
+#include <vector>
+
+#include "harness/scenario.hpp"
+
+namespace clothbench {
+
+/// How to check.
+struct CheckOptions {
+  std::string baseline_dir;             // folder holding one subfolder per scenario
+  std::vector<std::string> overrides;   // --set overrides applied to every scenario
+  bool update = false;                  // record new baselines instead of comparing
+  bool progress = true;
+  int jobs = 1;                         // threads for the stability searches
+};
+
+/// One gated quantity.
+struct Gate {
+  std::string scenario;
+  std::string engine;    // engine name, or engine/integrator for stability limits
+  std::string quantity;  // final_shape_rms, max_energy_error, stable, force_evals, ...
+  double baseline = 0;
+  double now = 0;
+  double difference = 0;  // |now - baseline| (final_shape_rms: the distance itself)
+  double allowed = 0;     // largest difference that passes
+  bool pass = true;
+  std::string note;       // why it failed, or what changed (--update)
+};
+
+/// Checks (or with update, records) one scenario file against its baseline folder.
+/// Throws ScenarioError for a bad scenario and std::runtime_error for a missing or malformed
+/// baseline (naming the file).
+std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOptions& o);
+
+/// The gate table as printed by `clothbench check` (one line per gate, aligned columns).
+std::string format_gates(const std::vector<Gate>& gates);
+
+}  // namespace clothbench
