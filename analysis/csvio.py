@@ -61,7 +61,7 @@ SCHEMAS = {
         ["engine", "integrator", "order", "points"],
         text=["engine", "integrator"], keys=["engine"]),
     "recommendation.csv": Schema(
-        ["scope", "engine", "integrator", "dt", "error_final", "wall_s_per_sim_s", "tolerance"],
+        ["scope", "engine", "integrator", "dt", "error_max", "wall_s_per_sim_s", "tolerance"],
         text=["scope", "engine", "integrator"], keys=["scope", "engine"]),
 }
 

@@ -22,7 +22,7 @@ STABILITY_HEADERS = {
 }
 RECOMMENDATION_HEADERS = {
     "scope": "scope", "engine": "engine", "integrator": "integrator", "dt": "dt (s)",
-    "error_final": "final error (m)", "wall_s_per_sim_s": "wall s / sim s",
+    "error_max": "max error (m)", "wall_s_per_sim_s": "wall s / sim s",
     "tolerance": "tolerance (m)",
 }
 CONVERGENCE_HEADERS = {"engine": "engine", "integrator": "integrator", "order": "order",

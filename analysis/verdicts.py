@@ -91,7 +91,7 @@ def run_verdicts(f):
             if not len(err):
                 continue
             e0 = rows["total_energy"][0] if len(rows) else math.nan
-            rel = f" ({100 * err.max() / abs(e0):.2g} % of the initial total energy " \
+            rel = f" ({num(100 * err.max() / abs(e0), 2)} % of the initial total energy " \
                   f"{num(float(e0))} J)" if _finite(e0) and e0 != 0 else ""
             until = "" if f.blowup(e) is None else " before the blow-up"
             lines.append(("info", f"{e}: energy error at most {num(float(err.max()))} J"
@@ -259,15 +259,15 @@ def sweep_verdicts(f):
         if f.has("recommendation.csv"):
             rec = f.table("recommendation.csv")
             for r in sorted(rec.rows(), key=lambda r: r["scope"] != "overall"):
-                scope = "overall" if r["scope"] == "overall" else f"for {r['scope']}"
+                scope = "overall" if r["scope"] == "overall" else f"for {r['engine']}"
                 tol = f" within tolerance {num(r['tolerance'])} m" \
                     if _finite(r["tolerance"]) else ""
                 lines.append(("ok", f"Cheapest{tol} {scope}: {_key(r['engine'], r['integrator'])} "
-                              f"at dt {num(r['dt'])} s (error {length(r['error_final'])}, "
+                              f"at dt {num(r['dt'])} s (max error {length(r['error_max'])}, "
                               f"{num(r['wall_s_per_sim_s'])} s of wall time per simulated "
                               f"second)."))
             if f.has("work_precision.csv"):
-                scopes = set(rec["scope"])
+                scopes = {r["engine"] for r in rec.rows() if r["scope"] != "overall"}
                 for e in f.table("work_precision.csv").unique("engine"):
                     if e not in scopes:
                         lines.append(("bad", f"{e}: no stable configuration meets the tolerance."))

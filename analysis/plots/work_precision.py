@@ -9,7 +9,7 @@ from . import style
 
 STEM = "work_precision"
 TITLE = "Work-precision"
-CAPTION = ("Work-precision: final RMS position error against the reference solution versus wall "
+CAPTION = ("Work-precision: largest RMS position error over the run against the reference solution versus wall "
            "time per simulated second, one line per engine and integrator (points are time "
            "steps). Crosses on the dotted line are unstable time steps (no error). The grey band "
            "is the Pareto front; the dashed line is the tolerance and the star the recommended "
@@ -46,12 +46,12 @@ def draw(folders, ctx):
     fig, axes = plt.subplots(1, len(panels), figsize=(12, 7.4), squeeze=False, sharex=True,
                              sharey=True, layout="constrained")
     # one error scale for both panels: unstable points sit just above the largest error
-    errs = np.concatenate([f.table("work_precision.csv")["error_final"] for f in panels])
+    errs = np.concatenate([f.table("work_precision.csv")["error_max"] for f in panels])
     good = errs[np.isfinite(errs) & (errs > 0)]
     top = good.max() * 6 if len(good) else 1.0
     for ax, f in zip(axes[0], panels):
         wp = f.table("work_precision.csv")
-        x, y = wp["wall_s_per_sim_s"], wp["error_final"]
+        x, y = wp["wall_s_per_sim_s"], wp["error_max"]
         ok = (wp["stable"] >= 0.5) & np.isfinite(y) & (y > 0) & np.isfinite(x) & (x > 0)
         any_unstable = False
         for e, i in style.configs(wp):
@@ -86,19 +86,19 @@ def draw(folders, ctx):
                     continue
                 shown.add(key)
                 overall = row["scope"] == "overall"
-                what = "recommended" if overall else f"cheapest for {row['scope']}"
+                what = "recommended" if overall else f"cheapest for {row['engine']}"
                 label = (f"{what}: {style.config_key(row['engine'], row['integrator'])}, "
                          f"dt {style.fmt(row['dt'])} s")
-                ax.plot([row["wall_s_per_sim_s"]], [row["error_final"]], marker="*",
+                ax.plot([row["wall_s_per_sim_s"]], [row["error_max"]], marker="*",
                         ms=22 if overall else 15, color="gold", mec="black", ls="none",
                         zorder=5, label=label)
                 ax.annotate(f"dt {style.fmt(row['dt'])} s", (row["wall_s_per_sim_s"],
-                            row["error_final"]), xytext=(12, -2), textcoords="offset points",
+                            row["error_max"]), xytext=(12, -2), textcoords="offset points",
                             va="top", fontsize=style.FONT - 1)
         ax.set_xscale("log")
         ax.set_yscale("log")
         ax.set_xlabel("wall time per simulated second (s/s)")
-        ax.set_ylabel("final RMS error vs reference (m)")
+        ax.set_ylabel("max RMS error vs reference (m)")
         if len(panels) > 1:
             ax.set_title(f.label)
         if f is panels[-1]:  # colours are shared: one legend, right of the last panel

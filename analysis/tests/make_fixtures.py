@@ -472,14 +472,16 @@ def make_sweep(folder):
 
     # recommendation: cheapest stable row meeting the tolerance, per engine and overall
     tol = 1e-4
-    ok = [r for r in wp if r[3] == 1 and r[4] != "" and r[4] <= tol]
+    # (judged on the largest error over the run, as clothbench accuracy does)
+    ok = [r for r in wp if r[3] == 1 and r[5] != "" and r[5] <= tol]
     rec = []
-    for scope in sorted({r[0] for r in ok}) + ["overall"]:
-        cands = [r for r in ok if scope in ("overall", r[0])]
+    for engine in sorted({r[0] for r in ok}) + ["overall"]:
+        cands = [r for r in ok if engine in ("overall", r[0])]
         best = min(cands, key=lambda r: r[7])
-        rec.append([scope, best[0], best[1], best[2], best[4], best[7], tol])
+        scope = "overall" if engine == "overall" else "engine"
+        rec.append([scope, best[0], best[1], best[2], best[5], best[7], tol])
     write_csv(os.path.join(folder, "recommendation.csv"),
-              ["scope", "engine", "integrator", "dt", "error_final", "wall_s_per_sim_s",
+              ["scope", "engine", "integrator", "dt", "error_max", "wall_s_per_sim_s",
                "tolerance"], rec)
     with open(os.path.join(folder, "run.json"), "w", encoding="utf-8") as f:
         json.dump({"tool": "clothbench", "version": "0.1.0", "git_commit": "0000000 (fixture)",

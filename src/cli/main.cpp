@@ -17,8 +17,8 @@
 #include "cloth/integrator.hpp"
 #include "harness/accuracy_sweep.hpp"
 #include "harness/csv_writer.hpp"
-#include "harness/regression_check.hpp"
 #include "harness/engine_factory.hpp"
+#include "harness/regression_check.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
 #include "harness/stability_sweep.hpp"
@@ -138,7 +138,8 @@ int cmd_check(std::vector<std::string> paths, const CheckOptions& o) {
                               : "baselines recorded; what changed:\n" + format_gates(all));
     return kOk;
   }
-  std::cout << format_gates(all) << all.size() - failed << " gates passed, " << failed << " failed\n";
+  std::cout << format_gates(all) << all.size() - failed << " gates passed, " << failed
+            << " failed\n";
   return failed > 0 ? 1 : kOk;
 }
 
@@ -294,14 +295,21 @@ int main(int argc, char** argv) {
   chk.baseline_dir = CLOTHBENCH_BASELINE_DIR;
   std::vector<std::string> check_paths;
   CLI::App* check = app.add_subcommand(
-      "check", "Rerun scenarios and compare every gated quantity with its recorded baseline (final shape,\n"
-               "energy error, stability, divergence from the reference, force evaluations, CG\n"
-               "iterations). Exit status 1 when any gate fails. --update records new baselines.");
+      "check",
+      "Rerun scenarios and compare every gated quantity with its recorded baseline (final shape,\n"
+      "energy error, stability, divergence from the reference, force evaluations, CG\n"
+      "iterations). Exit status 1 when any gate fails. --update records new baselines.");
   check->add_option("scenarios", check_paths, "scenario files (default: every shipped scenario)");
-  check->add_option("--baseline,-b", chk.baseline_dir, "baseline folder (one subfolder per scenario)")->capture_default_str();
-  check->add_flag("--update", chk.update, "record the current results as the baseline and print what changed");
-  check->add_option("--set,-s", overrides, "override a scenario key in every scenario (repeatable)")->allow_extra_args(false);
-  check->add_option("--jobs,-j", chk.jobs, "threads for the stability searches")->check(CLI::PositiveNumber);
+  check
+      ->add_option("--baseline,-b", chk.baseline_dir,
+                   "baseline folder (one subfolder per scenario)")
+      ->capture_default_str();
+  check->add_flag("--update", chk.update,
+                  "record the current results as the baseline and print what changed");
+  check->add_option("--set,-s", overrides, "override a scenario key in every scenario (repeatable)")
+      ->allow_extra_args(false);
+  check->add_option("--jobs,-j", chk.jobs, "threads for the stability searches")
+      ->check(CLI::PositiveNumber);
   check->add_flag("--quiet,-q", quiet, "no progress on stderr");
 
   CLI::App* report = app.add_subcommand(
@@ -309,7 +317,8 @@ int main(int argc, char** argv) {
       "Plots and a self-contained report.html from an output folder (runs analysis/report.py\n"
       "with /usr/bin/python3). Everything after `report` goes to the script: DIR\n"
       "[--compare DIR2] [--labels A,B] [--out OUTDIR] [--svg] [--snapshot-times LIST]\n"
-      "[--tolerance E]; `clothbench report -- --help` shows its help.");
+      "[--tolerance E]; `clothbench report --help` shows the script's own help.");
+  report->set_help_flag();  // --help goes to the script, whose help lists its options
   report->allow_extras();
   report->prefix_command();
 

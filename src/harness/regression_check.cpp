@@ -37,9 +37,15 @@ struct Tolerances {
 };
 
 // the quantities of metrics.csv, in the order they are gated
-const std::vector<std::string> kMetricQuantities = {
-    "stable", "steps", "force_evals", "cg_iterations", "max_energy_error",
-    "final_rms_vs_reference", "max_rms_vs_reference", "drape_coefficient", "final_com_y"};
+const std::vector<std::string> kMetricQuantities = {"stable",
+                                                    "steps",
+                                                    "force_evals",
+                                                    "cg_iterations",
+                                                    "max_energy_error",
+                                                    "final_rms_vs_reference",
+                                                    "max_rms_vs_reference",
+                                                    "drape_coefficient",
+                                                    "final_com_y"};
 
 std::string read_file(const fs::path& p) {
   std::ifstream in(p);
@@ -49,7 +55,8 @@ std::string read_file(const fs::path& p) {
   return ss.str();
 }
 
-std::vector<std::vector<std::string>> read_csv(const fs::path& p, const std::vector<std::string>& header) {
+std::vector<std::vector<std::string>> read_csv(const fs::path& p,
+                                               const std::vector<std::string>& header) {
   std::istringstream in(read_file(p));
   std::string line;
   std::getline(in, line);
@@ -99,7 +106,8 @@ Tolerances read_tolerances(const fs::path& p) {
     if (std::find(known.begin(), known.end(), name) == known.end())
       throw std::runtime_error(p.string() + ": unknown quantity \"" + name + "\"");
     const toml::table* tab = node.as_table();
-    if (!tab) throw std::runtime_error(p.string() + ": " + name + ": expected { abs = ..., rel = ... }");
+    if (!tab)
+      throw std::runtime_error(p.string() + ": " + name + ": expected { abs = ..., rel = ... }");
     Tolerance tol;
     tol.abs = (*tab)["abs"].value_or(0.0);
     tol.rel = (*tab)["rel"].value_or(0.0);
@@ -134,7 +142,8 @@ std::map<std::string, double> run_metrics(const RunResult& r, size_t i) {
           {"final_com_y", run.frames.back().com.y()}};
 }
 
-const char* kToleranceTemplate = R"(# How far each gated quantity may move before `clothbench check` fails, as
+const char* kToleranceTemplate =
+    R"(# How far each gated quantity may move before `clothbench check` fails, as
 # allowed = abs + rel * |baseline|. Edit the figures with a reason: the engine is
 # deterministic, so an unchanged build reproduces its baseline to the last bit; the
 # widths below only absorb round-off differences between compilers and CPUs.
@@ -213,8 +222,8 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
         const std::string k = result.runs[i].spec.name + "/" + q;
         const double before = old.count(k) ? old[k] : NAN;
         if (!(before == v) && !(std::isnan(before) && std::isnan(v))) {
-          Gate g{sc.name, result.runs[i].spec.name, q, before, v, std::abs(v - before), 0, true,
-                 old.count(k) ? "updated" : "new"};
+          Gate g{sc.name, result.runs[i].spec.name,        q, before, v, std::abs(v - before), 0,
+                 true,    old.count(k) ? "updated" : "new"};
           gates.push_back(g);
         }
       }
@@ -222,8 +231,13 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
     for (const EngineRun& run : result.runs) {
       const cloth::Matrix3X& x = run.snapshots.back();
       for (Eigen::Index p = 0; p < x.cols(); ++p)
-        shape.add(run.spec.name).add(int(p % result.model.nu)).add(int(p / result.model.nu))
-            .add(x(0, p)).add(x(1, p)).add(x(2, p)).end_row();
+        shape.add(run.spec.name)
+            .add(int(p % result.model.nu))
+            .add(int(p / result.model.nu))
+            .add(x(0, p))
+            .add(x(1, p))
+            .add(x(2, p))
+            .end_row();
     }
     metrics.commit();
     shape.commit();
@@ -262,30 +276,36 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
   for (const auto& r : read_csv(spath, {"engine", "i", "j", "x", "y", "z"})) {
     auto& m = shapes[r[0]];
     if (m.cols() == 0) m = cloth::Matrix3X::Constant(3, np, NAN);
-    const long p = std::lround(to_number(r[2], spath)) * result.model.nu + std::lround(to_number(r[1], spath));
+    const long p =
+        std::lround(to_number(r[2], spath)) * result.model.nu + std::lround(to_number(r[1], spath));
     if (p < 0 || p >= np) throw std::runtime_error(spath.string() + ": particle outside the grid");
     for (int a = 0; a < 3; ++a) m(a, p) = to_number(r[static_cast<size_t>(3 + a)], spath);
   }
   for (const EngineRun& run : result.runs) {
     const auto it = shapes.find(run.spec.name);
     if (it == shapes.end()) {
-      gates.push_back({sc.name, run.spec.name, "final_shape_rms", NAN, NAN, NAN, 0, false, "not in the baseline"});
+      gates.push_back({sc.name, run.spec.name, "final_shape_rms", NAN, NAN, NAN, 0, false,
+                       "not in the baseline"});
       continue;
     }
-    const double rms = std::sqrt((run.snapshots.back() - it->second).colwise().squaredNorm().mean());
-    gate(run.spec.name, "final_shape_rms", 0.0, rms, tol.quantity.at("final_shape_rms").allowed(0.0), rms);
+    const double rms =
+        std::sqrt((run.snapshots.back() - it->second).colwise().squaredNorm().mean());
+    gate(run.spec.name, "final_shape_rms", 0.0, rms,
+         tol.quantity.at("final_shape_rms").allowed(0.0), rms);
   }
   // stability limits: the same search must land in the same bisection interval
   if (tol.stability) {
     const fs::path stpath = dir / "stability.csv";
     std::map<std::string, std::pair<double, double>> limits;
-    for (const auto& r : read_csv(stpath, {"engine", "integrator", "stable_dt", "first_unstable_dt"}))
+    for (const auto& r :
+         read_csv(stpath, {"engine", "integrator", "stable_dt", "first_unstable_dt"}))
       limits[r[0] + "/" + r[1]] = {to_number(r[2], stpath), to_number(r[3], stpath)};
     for (const StabilityRow& r : stability) {
       const std::string name = r.engine + "/" + r.integrator;
       const auto it = limits.find(name);
       if (it == limits.end()) {
-        gates.push_back({sc.name, name, "stable_dt", NAN, r.stable_dt, NAN, 0, false, "not in the baseline"});
+        gates.push_back(
+            {sc.name, name, "stable_dt", NAN, r.stable_dt, NAN, 0, false, "not in the baseline"});
         continue;
       }
       const double b = it->second.first;
@@ -311,7 +331,8 @@ std::string format_gates(const std::vector<Gate>& gates) {
                   g.scenario.c_str(), g.engine.c_str(), g.quantity.c_str(), num(g.baseline).c_str(),
                   num(g.now).c_str(), num(g.difference).c_str(), num(g.allowed).c_str(),
                   (g.note.empty() ? std::string(g.pass ? "ok" : "FAIL")
-                                  : std::string(g.pass ? "" : "FAIL: ") + g.note).c_str());
+                                  : std::string(g.pass ? "" : "FAIL: ") + g.note)
+                      .c_str());
     o << line;
   }
   return o.str();

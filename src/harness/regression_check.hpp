@@ -19,11 +19,11 @@ namespace clothbench {
 
 /// How to check.
 struct CheckOptions {
-  std::string baseline_dir;             // folder holding one subfolder per scenario
-  std::vector<std::string> overrides;   // --set overrides applied to every scenario
-  bool update = false;                  // record new baselines instead of comparing
+  std::string baseline_dir;            // folder holding one subfolder per scenario
+  std::vector<std::string> overrides;  // --set overrides applied to every scenario
+  bool update = false;                 // record new baselines instead of comparing
   bool progress = true;
-  int jobs = 1;                         // threads for the stability searches
+  int jobs = 1;  // threads for the stability searches
 };
 
 /// One gated quantity.
@@ -36,7 +36,7 @@ struct Gate {
   double difference = 0;  // |now - baseline| (final_shape_rms: the distance itself)
   double allowed = 0;     // largest difference that passes
   bool pass = true;
-  std::string note;       // why it failed, or what changed (--update)
+  std::string note;  // why it failed, or what changed (--update)
 };
 
 /// Checks (or with update, records) one scenario file against its baseline folder.

@@ -733,9 +733,10 @@ Scenario read_scenario(const toml::table& root, const std::string& source,
     if (const std::string why = engine_limitation(e, s.scene); !why.empty()) {
       const toml::table& t = *engines[k];
       const auto stiffness = root["cloth"]["stiffness"];
-      const auto [n, key] = blame({{t.get("kind") ? t.get("kind") : &t, "engine." + e.name + ".kind"},
-                                   {stiffness["structural"].node(), "cloth.stiffness.structural"},
-                                   {stiffness["shear"].node(), "cloth.stiffness.shear"}});
+      const auto [n, key] =
+          blame({{t.get("kind") ? t.get("kind") : &t, "engine." + e.name + ".kind"},
+                 {stiffness["structural"].node(), "cloth.stiffness.structural"},
+                 {stiffness["shear"].node(), "cloth.stiffness.shear"}});
       r.fail(n, key, why);
     }
     kept.push_back(std::move(e));
