@@ -37,7 +37,8 @@ double MassSpringCloth::accelerations(const Matrix3X& x, const Matrix3X& v, Matr
     a.row(r) = (m_force.row(r).array() * m_model.inv_mass.transpose().array() + m_model.gravity[r])
                    .matrix();
   }
-  if (m_model.any_held) a.array() *= m_model.free.array();
+  // select, not multiply: a held axis stays exactly zero even when a blow-up makes a infinite
+  if (m_model.any_held) a = (m_model.free.array() > 0.0).select(a, 0.0);
   return power;
 }
 
@@ -106,9 +107,13 @@ void MassSpringCloth::step(double h) {
   m_t += h;
   ++m_counters.steps;
   m_dissipated += dissipated;
-  if (!m_model.spheres.empty())
+  // a scene without spheres skips the contact pass altogether
+  if (!m_model.spheres.empty()) {
     m_dissipated +=
         resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free);
+    m_counters.contact_tests +=
+        static_cast<std::int64_t>(m_model.spheres.size()) * m_model.particle_count();
+  }
 }
 
 void MassSpringCloth::step_implicit_euler(double h) {
@@ -146,6 +151,7 @@ void MassSpringCloth::step_implicit_euler(double h) {
     const CgResult cg = filtered_pcg(apply, m_rhs, m_diag, m.free, m_dv, m_cg,
                                      m_options.cg_tolerance, m_options.cg_max_iterations);
     m_counters.cg_iterations += cg.iterations;
+    if (cg.relative_residual > m_options.cg_tolerance) ++m_counters.cg_unconverged;
     m_v1 += m_dv;
     m_x1 = m_x + h * m_v1;
   }

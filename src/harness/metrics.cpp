@@ -107,11 +107,13 @@ Divergence divergence(const Matrix3X& x, const FrameMetrics& m, const Matrix3X& 
 }
 
 double support_area(const std::vector<double>& disk_radii,
-                    const std::vector<cloth::Sphere>& spheres) {
+                    const std::vector<cloth::Sphere>& spheres, bool horizontal) {
   double a = 0.0;
   for (double r : disk_radii) a += M_PI * r * r;
-  if (a > 0) return a;
-  for (const cloth::Sphere& s : spheres) a += M_PI * s.radius * s.radius;
+  if (a > 0 || !horizontal) return a;
+  // a sphere is a support only while it stays put under the cloth
+  for (const cloth::Sphere& s : spheres)
+    if (s.velocity.isZero()) a += M_PI * s.radius * s.radius;
   return a;
 }
 

@@ -57,9 +57,11 @@ Divergence divergence(const cloth::Matrix3X& x, const FrameMetrics& m, const clo
                       const FrameMetrics& m_ref);
 
 /// Support area (m^2) under the cloth for the drape coefficient: the held disks of the table
-/// scene or the spheres' cross-sections; 0 when the scene has none.
+/// scene, else the cross-sections of the fixed spheres a horizontal cloth drapes over; 0 when
+/// the scene has no support (a vertical cloth, a sphere that moves), so no coefficient is given.
+/// @param horizontal  the cloth starts flat in the x-z plane
 double support_area(const std::vector<double>& disk_radii,
-                    const std::vector<cloth::Sphere>& spheres);
+                    const std::vector<cloth::Sphere>& spheres, bool horizontal);
 
 /// Cusick drape coefficient (shadow - support) / (cloth - support).
 double drape_coefficient(double shadow, double support, double cloth_area);

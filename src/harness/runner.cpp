@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <sstream>
 #include <stdexcept>
@@ -66,7 +67,13 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
       }
     }
     log_frame(f, run.stable);
-    if (progress) progress->advance(double(steps_per_frame), spec.name);
+    if (progress && progress->live()) {
+      // the label carries the simulated time: a slow engine shows how far it has come
+      char label[96];
+      std::snprintf(label, sizeof label, "%s  t = %.2f / %.2f s", spec.name.c_str(), sim->time(),
+                    sc.duration);
+      progress->advance(double(steps_per_frame), label);
+    }
     const bool last = f == frames || !run.stable;
     if (last || (frames_per_snapshot > 0 && f % frames_per_snapshot == 0)) snapshot();
   }
@@ -113,6 +120,9 @@ RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
         << std::llround(run.counters.steps / std::max(run.wall_s, 1e-9)) << " steps/s), "
         << (run.stable ? std::string("stable")
                        : "unstable at t = " + format_double(run.blowup_t) + " s");
+    if (run.counters.cg_unconverged > 0)
+      msg << "; " << run.counters.cg_unconverged
+          << " linear solves stopped at cg_max_iterations before reaching cg_tolerance";
     progress.line(msg.str());
     result.runs.push_back(std::move(run));
   }
@@ -136,8 +146,9 @@ double final_drape_coefficient(const RunResult& result, const EngineRun& run) {
   std::vector<double> disks;
   for (const ConstraintSpec& c : result.scenario.constraints)
     if (c.select == "disk") disks.push_back(c.disk_radius);
-  const double support = support_area(disks, result.scenario.scene.spheres);
   const cloth::ClothParams& c = result.scenario.scene.cloth;
+  const double support =
+      support_area(disks, result.scenario.scene.spheres, c.plane == cloth::Plane::xz);
   const double cloth_area = c.size_u * c.size_v;
   if (support <= 0 || cloth_area <= support || run.frames.empty())
     return std::numeric_limits<double>::quiet_NaN();

@@ -48,7 +48,7 @@ struct Scenario {
   std::string source;              // file it came from, or "<embedded>"
   double duration = 1.0;           // s
   double frame_interval = 0.01;    // s between metric rows
-  double snapshot_interval = 0.0;  // s between full-shape snapshots; 0: final shape only
+  double snapshot_interval = 0.0;  // s between full-shape snapshots; 0: initial and final only
   double blowup_strain = 1.0;      // a run is unstable once |strain| exceeds this
   std::string reference;           // engine the others are compared against ("" = the first)
   cloth::Scene scene;              // scene.held is filled from constraints

@@ -656,6 +656,15 @@ Scenario read_scenario(const toml::table& root, const std::string& source,
   s.description = r.string(at, "description", s.description);
   s.duration = r.number(at, "duration", s.duration, kPositive);
   s.frame_interval = r.number(at, "frame_interval", s.frame_interval, kPositive);
+  if (!whole_multiple(s.duration, s.frame_interval)) {
+    // a fractional last frame would be rounded away: the run would not last `duration`
+    const auto [n, key] =
+        blame({{root.get("duration"), "duration"}, {root.get("frame_interval"), "frame_interval"}});
+    r.fail(n, key,
+           "expected duration to be a whole multiple of frame_interval = " +
+               toml_double(s.frame_interval) + " s, got duration = " + toml_double(s.duration) +
+               " s");
+  }
   s.snapshot_interval = r.number(at, "snapshot_interval", s.snapshot_interval, kNonNegative);
   if (s.snapshot_interval > 0 && !whole_multiple(s.snapshot_interval, s.frame_interval)) {
     const auto [n, key] = blame({{root.get("snapshot_interval"), "snapshot_interval"},

@@ -5,6 +5,7 @@
 #include <map>
 #include <sstream>
 
+#include "harness/csv_writer.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
 
@@ -222,7 +223,6 @@ TEST_CASE("two runs give byte-identical CSVs apart from timing columns", "[runne
 }
 
 TEST_CASE("bad input and interruption leave no output behind", "[runner][scenario]") {
-  const fs::path dir = fresh_dir("bad");
   // a bad override is refused before anything runs
   CHECK_THROWS_AS(run_small({"engine.rk4.dt=-1"}), ScenarioError);
   // an engine filter naming no engine
@@ -231,14 +231,34 @@ TEST_CASE("bad input and interruption leave no output behind", "[runner][scenari
   o.engines = {"nope"};
   CHECK_THROWS_WITH(run_scenario(parse_scenario(kSmallScenario, "small.toml"), o),
                     Catch::Contains("--engine nope") && Catch::Contains("rk4-copy"));
-  // an interrupted run throws before write_run, so nothing is written
+  // an interrupted run stops with Interrupted, before anything could be written
   interrupt_requested() = true;
   CHECK_THROWS_AS(run_small(), Interrupted);
   interrupt_requested() = false;
-  CHECK_FALSE(fs::exists(dir));
   // an unwritable output folder is a clear error
   CHECK_THROWS_WITH(write_run(run_small({"duration=0.02"}), "/proc/clothbench"),
                     Catch::Contains("/proc/clothbench"));
+}
+
+TEST_CASE("a CSV appears only when committed, and an abandoned one leaves nothing", "[runner]") {
+  const fs::path dir = fresh_dir("atomic");
+  fs::create_directories(dir);
+  const fs::path target = dir / "table.csv";
+  {
+    // rows written, then the writer is abandoned (an error or an interrupt unwinds past it)
+    CsvWriter w(target.string(), {"a", "b"});
+    w.add(1).add(2).end_row();
+    CHECK_FALSE(fs::exists(target));  // not visible while being written
+    CHECK(fs::directory_iterator(dir) != fs::directory_iterator());  // its temporary file is
+  }
+  CHECK(fs::directory_iterator(dir) == fs::directory_iterator());  // nothing is left behind
+  {
+    CsvWriter w(target.string(), {"a", "b"});
+    w.add(1).add(2).end_row();
+    w.commit();
+  }
+  CHECK(slurp(target) == "a,b\n1,2\n");
+  CHECK(std::distance(fs::directory_iterator(dir), fs::directory_iterator()) == 1);
 }
 
 TEST_CASE("an engine filter runs the chosen engines and the reference", "[runner]") {
