@@ -16,6 +16,7 @@
 #include <sstream>
 
 #include "harness/embedded_seed_scenario.hpp"
+#include "harness/engine_factory.hpp"
 
 namespace clothbench {
 
@@ -747,6 +748,16 @@ Scenario read_scenario(const toml::table& root, const std::string& source,
                  {stiffness["structural"].node(), "cloth.stiffness.structural"},
                  {stiffness["shear"].node(), "cloth.stiffness.shear"}});
       r.fail(n, key, why);
+    }
+    // the Bullet adapters know what else they cannot honour (restitution, differing margins,
+    // option combinations): building one now turns a refusal into an error at the engine
+    if (e.kind != "custom") {
+      try {
+        make_engine(e, s.scene);
+      } catch (const std::invalid_argument& refusal) {
+        const toml::table& t = *engines[k];
+        r.fail(t.get("kind") ? t.get("kind") : &t, "engine." + e.name, refusal.what());
+      }
     }
     kept.push_back(std::move(e));
   }
