@@ -352,7 +352,11 @@ int main(int argc, char** argv) {
       return cmd_stability(scenario_path, overrides, stab);
     }
   } catch (const Interrupted&) {
-    std::cerr << "clothbench: interrupted; no output written\n";
+    // a run writes nothing until it is complete; a sweep has kept every finished row
+    if (*stability || *accuracy)
+      std::cerr << "clothbench: interrupted; the finished rows are kept (--resume goes on)\n";
+    else
+      std::cerr << "clothbench: interrupted; no output written\n";
     return kInterrupted;
   } catch (const ScenarioError& e) {
     std::cerr << "clothbench: " << e.what() << '\n';

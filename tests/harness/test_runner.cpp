@@ -165,6 +165,20 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
   CHECK(summary.num(2, "steps") == 600);
   // no support under the cloth: no drape coefficient
   CHECK(summary.rows[0][summary.col("drape_coefficient")].empty());
+  // the cost and comparison columns agree with each other and with the other files
+  for (size_t r = 0; r < summary.rows.size(); ++r) {
+    CHECK(summary.rows[r][summary.col("kind")] == "custom");
+    CHECK(summary.num(r, "wall_s") > 0.0);
+    CHECK(summary.num(r, "us_per_step") ==
+          Approx(1e6 * summary.num(r, "wall_s") / summary.num(r, "steps")).epsilon(1e-9));
+    CHECK(summary.num(r, "max_energy_error") >= 0.0);
+  }
+  CHECK(summary.num(0, "dt") == 1e-4);
+  CHECK(summary.num(3, "steps") < 30);                     // stopped at the blow-up
+  CHECK(summary.num(0, "final_rms_vs_reference") == 0.0);  // the reference itself
+  CHECK(summary.num(1, "final_rms_vs_reference") == 0.0);  // its exact copy
+  CHECK(summary.num(2, "max_rms_vs_reference") >= summary.num(2, "final_rms_vs_reference"));
+  CHECK(summary.num(2, "max_rms_vs_reference") > 0.0);
 
   // divergence: none for the reference, exactly zero for its copy, small for symplectic
   const Csv div = read_csv(dir / "divergence.csv");
@@ -182,6 +196,8 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
     }
     if (div.rows[r][0] == "symplectic") {
       CHECK(div.num(r, "max_distance") >= div.num(r, "rms_distance"));
+      // the centre of mass is the mean position: its distance is at most the RMS distance
+      CHECK(div.num(r, "com_distance") <= div.num(r, "rms_distance") + 1e-15);
       symplectic_worst = std::max(symplectic_worst, div.num(r, "rms_distance"));
     }
   }
@@ -288,4 +304,41 @@ TEST_CASE("shadow area of a flat grid is its area; a fold is not counted twice",
       folded(0, p) = -folded(0, p);
     }
   CHECK(shadow_area(m, g, folded) == Approx(1.0).margin(0.012));
+}
+
+TEST_CASE("the drape coefficient is 1 for a flat cloth and falls as it drapes", "[runner]") {
+  // a small Cusick table: a 0.6 m square over a held disk of radius 0.15 m
+  const char* table = R"(
+name = "small_table"
+duration = 0.5
+frame_interval = 0.01
+[cloth]
+particles = [13, 13]
+size = [0.6, 0.6]
+center = [0.0, 0.5, 0.0]
+total_mass = 0.072
+stiffness = { structural = 50.0, shear = 50.0, bend = 5.0 }
+damping = 0.01
+[[constraint]]
+select = "disk"
+hold = "y"
+center = [0.0, 0.0]
+radius = 0.15
+[[engine]]
+name = "rk4"
+dt = 1e-3
+)";
+  RunOptions o;
+  o.progress = false;
+  auto coefficient = [&](const std::string& duration) {
+    const RunResult r =
+        run_scenario(parse_scenario(table, "table.toml", {"duration=" + duration}), o);
+    return final_drape_coefficient(r, r.runs[0]);
+  };
+  // flat: the shadow is the whole cloth, (A - S) / (A - S) = 1 up to the shadow's raster error
+  CHECK(coefficient("0.01") == Approx(1.0).margin(0.02));
+  // draped: the skirt hangs down, its shadow shrinks toward the support
+  const double draped = coefficient("0.5");
+  CHECK(draped < 0.9);
+  CHECK(draped > 0.0);
 }
