@@ -60,6 +60,7 @@ tr.unstable td { background: #fdeaea; }
 figure { margin: 18px 0 26px; }
 figure img { display: block; max-width: 100%; height: auto; border: 1px solid #dde; }
 figcaption { color: #333; font-size: 14px; margin-top: 6px; max-width: 1100px; }
+p.skipped { color: #555; font-style: italic; margin: 4px 0; }
 pre { background: #f4f5f7; padding: 10px; font-size: 12px; overflow-x: auto; }
 details summary { cursor: pointer; color: #2455a4; margin: 6px 0; }
 ul.params { margin: 6px 0; padding-left: 22px; }
@@ -137,7 +138,8 @@ def build(folders, figures, verdict_groups, notes, params):
     """The page as a string.
 
     folders         one or two Folder objects
-    figures         list of (title, caption, png path)
+    figures         list of (stem, title, caption, png path); path None: a plot left out,
+                    whose caption says why
     verdict_groups  list of (heading, [(kind, text)]) from verdicts
     notes           list of strings (files missing, plots skipped)
     params          list of (folder label, [(name, text)]) key scenario parameters
@@ -200,7 +202,11 @@ def build(folders, figures, verdict_groups, notes, params):
     # plots
     if figures:
         out.append("<h2>Plots</h2>")
-        for heading, caption, path in figures:
+        for stem, heading, caption, path in figures:
+            if path is None:
+                out.append(f'<h3>{E(heading)}</h3>'
+                           f'<p class="skipped" id="skipped-{E(stem)}">{E(caption)}</p>')
+                continue
             out.append(f"<figure><h3>{E(heading)}</h3>{image(path)}"
                        f"<figcaption>{E(caption)}</figcaption></figure>")
 

@@ -133,11 +133,15 @@ def run(argv):
                 engines += [k for k in keys if k not in engines]
     ctx = Context(outdir, args.svg, style.Colors(engines), snapshot_times, args.tolerance)
 
+    # (stem, title, caption, PNG path) of each plot, or (stem, title, why it is left out, None)
     figures = []
     for plot in ALL:
         if any(plot.available(f) for f in folders):
-            path = plot.draw(folders, ctx)
-            figures.append((plot.TITLE, plot.CAPTION, path))
+            reason = plot.skip_reason(folders) if hasattr(plot, "skip_reason") else None
+            if reason:
+                figures.append((plot.STEM, plot.TITLE, f"Not drawn: {reason}", None))
+            else:
+                figures.append((plot.STEM, plot.TITLE, plot.CAPTION, plot.draw(folders, ctx)))
 
     groups = []
     for f in folders:
@@ -154,8 +158,10 @@ def run(argv):
     with open(tmp, "w", encoding="utf-8") as fh:
         fh.write(text)
     os.replace(tmp, target)
-    print(f"wrote {target} ({len(figures)} plots: "
-          f"{', '.join(os.path.basename(p) for _, _, p in figures)})")
+    drawn = [os.path.basename(p) for _, _, _, p in figures if p]
+    left_out = [t for _, t, _, p in figures if not p]
+    print(f"wrote {target} ({len(drawn)} plots: {', '.join(drawn)}"
+          + (f"; not drawn: {', '.join(left_out)}" if left_out else "") + ")")
     return 0
 
 

@@ -1,5 +1,7 @@
-"""One module per plot. Each has STEM (file name), CAPTION, available(folder) and
-draw(folders, ctx) -> PNG path, where folders is one Folder or two (--compare)."""
+"""One module per plot. Each has STEM (file name), TITLE, CAPTION, available(folder) and
+draw(folders, ctx) -> PNG path, where folders is one Folder or two (--compare). A plot that can
+have nothing to show on some data also has skip_reason(folders) -> None, or the sentence the page
+shows in its place."""
 
 from . import convergence, divergence, drape, energy, shadow, stability, strain, work_precision
 

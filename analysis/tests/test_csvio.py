@@ -87,6 +87,21 @@ class PlotHelpers(unittest.TestCase):
         y = np.array([1e-2, 1e-3, 2e-3, 1e-5, 1e-1])
         self.assertEqual(pareto(x, y), [4, 0, 1, 3])
 
+    def test_triangle_areas(self):
+        from analysis.plots.shadow import casts_shadow, triangle_areas
+        # a flat 2 x 3 grid, 1 m by 2 m in the xz plane: four triangles of 0.5 m²
+        i, j = np.meshgrid([0.0, 1.0], [0.0, 1.0, 2.0], indexing="ij")
+        flat = np.stack([i, np.zeros_like(i), j], axis=-1)
+        np.testing.assert_allclose(triangle_areas(flat), [0.5] * 4)
+        np.testing.assert_allclose(triangle_areas(flat, [0, 2]), [0.5] * 4)
+        self.assertTrue(casts_shadow(flat, [0, 2]))
+        # the same grid stood up in the xy plane is edge-on from above
+        upright = flat[:, :, [0, 2, 1]]
+        self.assertFalse(casts_shadow(upright, [0, 2]))
+        # a chain has no triangles
+        self.assertEqual(len(triangle_areas(flat[:1])), 0)
+        self.assertFalse(casts_shadow(flat[:1], [0, 2]))
+
     def test_snapshot_choice(self):
         from analysis.plots.drape import choose_times
         times = [0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0]
