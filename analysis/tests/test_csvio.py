@@ -47,6 +47,20 @@ class ReadTable(unittest.TestCase):
         self.assertTrue(math.isnan(t["ratio_measured_to_predicted"][0]))
         self.assertEqual(t["cause"][0], "strain, mode 3")
 
+    def test_recommendation_that_found_nothing(self):
+        # as clothbench accuracy writes it when no configuration meets --tolerance
+        header = ",".join(SCHEMAS["recommendation.csv"].required)
+        t = read_table(self.write("recommendation.csv", header + "\nengine,custom-rk4,,,,,1e-30\n"
+                                  "overall,,,,,,1e-30\n"))
+        self.assertEqual(list(t["engine"]), ["custom-rk4", ""])
+        self.assertTrue(np.all(np.isnan(t["dt"])))
+        self.assertEqual(t["tolerance"][1], 1e-30)
+
+    def test_recommendation_needs_a_scope(self):
+        header = ",".join(SCHEMAS["recommendation.csv"].required)
+        with self.assertRaisesRegex(ReportError, "line 2, column 'scope': empty value"):
+            read_table(self.write("recommendation.csv", header + "\n,custom,rk4,1e-4,1,1,1\n"))
+
     def test_blank_lines_and_crlf(self):
         header = ",".join(SCHEMAS["convergence.csv"].required)
         t = read_table(self.write("convergence.csv", header + "\r\ncustom,rk4,4,5\r\n\r\n"))
@@ -78,6 +92,40 @@ class Formatting(unittest.TestCase):
         self.assertEqual(length(0.00128), "1.28 mm")
         self.assertEqual(length(2.5e-5), "25 µm")
         self.assertEqual(length(1.5), "1.5 m")
+
+
+class StabilityAgreement(unittest.TestCase):
+    """Measured against predicted stable time steps (s), in words."""
+
+    def agree(self, measured, predicted, ratio=math.nan, censored=False):
+        from analysis.verdicts import stability_agreement
+        return stability_agreement(measured, predicted, ratio, censored)
+
+    def test_found_limit(self):
+        self.assertEqual(self.agree(0.97e-3, 1e-3, 0.97)[0], "ok")
+        kind, text = self.agree(0.5e-3, 1e-3)
+        self.assertEqual(kind, "bad")
+        self.assertIn("0.50 (outside 10 %)", text)
+
+    def test_censored_ratio_is_a_lower_bound(self):
+        kind, text = self.agree(0.5e-3, 1e-3, 0.5, censored=True)
+        self.assertEqual(kind, "info")
+        self.assertIn("at least 0.50 (a lower bound", text)
+        # stable beyond the prediction by more than 10 %: a disagreement even as a bound
+        kind, text = self.agree(1.5e-3, 1e-3, math.nan, censored=True)
+        self.assertEqual(kind, "bad")
+        self.assertIn("at least 1.50", text)
+
+    def test_unconditionally_stable(self):
+        kind, text = self.agree(0.01, math.inf, censored=True)
+        self.assertEqual(kind, "ok")
+        self.assertIn("unconditionally stable in linear theory", text)
+        kind, text = self.agree(0.01, math.inf, censored=False)
+        self.assertEqual(kind, "bad")
+        self.assertIn("yet a larger step failed", text)
+
+    def test_no_theory(self):
+        self.assertEqual(self.agree(1e-3, math.nan), ("info", "; no predicted limit"))
 
 
 class PlotHelpers(unittest.TestCase):

@@ -3,7 +3,9 @@
 The same checks run on real folders when CLOTHBENCH_RUN_DIR / CLOTHBENCH_SWEEP_DIR are set.
 """
 
+import csv
 import os
+import re
 import shutil
 import tempfile
 import unittest
@@ -162,6 +164,42 @@ class ChainBesideCloth(ReportChecks, unittest.TestCase):
         self.assertIn("drape coefficient 0.878", svg)
 
 
+class StabilityLimitsFixture(ReportChecks, unittest.TestCase):
+    """Real stability output on the chain: a limit found, a search stopped at --dt-max below the
+    prediction (censored), and implicit Euler, unconditionally stable in linear theory."""
+    folders = (os.path.join(rc.FIXTURES, "stability_chain"),)
+    extra_args = ("--svg",)
+
+    def verdict(self, key):
+        found = re.findall(r'<li class="(\w+)"><span class="badge">\w+</span>'
+                           + re.escape(key) + r"([^<]*)</li>", self.page())
+        self.assertEqual(len(found), 1, key)
+        return found[0]
+
+    def test_infinite_prediction_is_unconditional_stability(self):
+        kind, text = self.verdict("custom-rk4 / implicit-euler:")
+        self.assertEqual(kind, "ok")
+        self.assertIn("unconditionally stable in linear theory", text)
+        self.assertNotIn("no predicted limit", text)
+
+    def test_censored_ratio_is_a_lower_bound(self):
+        kind, text = self.verdict("custom-rk4 / rk4:")
+        self.assertEqual(kind, "info")
+        self.assertIn("measured / predicted at least 0.78 (a lower bound", text)
+        self.assertNotIn("outside", text)
+
+    def test_found_limit_is_compared(self):
+        kind, text = self.verdict("custom-rk4 / symplectic-euler:")
+        self.assertEqual(kind, "ok")
+        self.assertIn("measured / predicted 1.02 (within 10 %)", text)
+
+    def test_plot_labels(self):
+        svg = self.svg("stability")
+        self.assertIn("unconditionally stable", svg)
+        self.assertNotIn("no prediction", svg)
+        self.assertIn("≥ 0.78", svg)
+
+
 class MadeFolder:
     """Mixin (before ReportChecks): the input folder is made in a temporary folder by
     fill(folder), and removed afterwards."""
@@ -177,6 +215,43 @@ class MadeFolder:
     def tearDownClass(cls):
         super().tearDownClass()
         shutil.rmtree(cls.src, ignore_errors=True)
+
+
+class StabilityWithoutRatio(MadeFolder, StabilityLimitsFixture):
+    """The same, with the ratio of the censored row left empty (as clothbench will write it)."""
+
+    @staticmethod
+    def fill(folder):
+        with open(os.path.join(rc.FIXTURES, "stability_chain", "stability.csv"),
+                  encoding="utf-8") as f:
+            rows = list(csv.reader(f))
+        k = rows[0].index("ratio_measured_to_predicted")
+        for row in rows[1:]:
+            if row[rows[0].index("first_unstable_dt")] == "":
+                row[k] = ""
+        with open(os.path.join(folder, "stability.csv"), "w", newline="", encoding="utf-8") as f:
+            csv.writer(f).writerows(rows)
+
+
+class NothingMeetsTheTolerance(ReportChecks, unittest.TestCase):
+    """Real accuracy output with --tolerance 1e-30: recommendation.csv without a configuration."""
+    folders = (os.path.join(rc.FIXTURES, "accuracy_flag"),)
+    must_have = ("work_precision.csv", "recommendation.csv")
+    extra_args = ("--svg",)
+
+    def test_verdicts_say_nothing_meets_it(self):
+        text = self.page()
+        self.assertIn("Nothing meets the tolerance overall: no stable configuration within "
+                      "tolerance 1e-30 m; the smallest max error is", text)
+        self.assertIn("Nothing meets the tolerance for bullet-deformable-explicit", text)
+        self.assertNotIn("Cheapest", text)
+        self.assertNotIn("dt n/a", text)
+
+    def test_legend_names_no_recommendation(self):
+        svg = self.svg("work_precision")
+        self.assertIn("nothing meets the tolerance overall", svg)
+        self.assertNotIn("dt nan", svg)
+        self.assertNotIn("dt n/a", svg)
 
 
 class PartialFolder(MadeFolder, ReportChecks, unittest.TestCase):
