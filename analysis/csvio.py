@@ -65,6 +65,10 @@ SCHEMAS = {
     "recommendation.csv": Schema(
         ["scope", "engine", "integrator", "dt", "error_max", "wall_s_per_sim_s", "tolerance"],
         text=["scope", "engine", "integrator"], keys=["scope"]),
+    "resolution.csv": Schema(
+        ["engine", "integrator", "particles", "dt", "stable", "error_final", "wall_s_per_sim_s",
+         "force_evals"],
+        text=["engine", "integrator"], flags=["stable"], keys=["engine", "particles", "stable"]),
 }
 
 _TRUE = {"1", "true", "True", "TRUE"}

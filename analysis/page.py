@@ -33,6 +33,11 @@ WORK_PRECISION_HEADERS = {
     "wall_s_per_sim_s": "wall s / sim s", "force_evals": "force evals",
     "cg_iterations": "CG iterations",
 }
+RESOLUTION_HEADERS = {
+    "engine": "engine", "integrator": "integrator", "particles": "particles", "dt": "dt (s)",
+    "stable": "stable", "error_final": "final error (m)", "wall_s_per_sim_s": "wall s / sim s",
+    "force_evals": "force evals",
+}
 
 CSS = """
 body { font-family: "DejaVu Sans", Helvetica, Arial, sans-serif; font-size: 15px; color: #1d1d1f;
@@ -79,7 +84,8 @@ def _cell(value, col, text_cols):
         return f"<td>{'yes' if value >= 0.5 else '<b>no</b>'}</td>"
     if isinstance(value, float) and math.isnan(value):
         return '<td class="num"></td>'
-    if col in ("steps", "force_evals", "points", "cg_iterations") and float(value).is_integer():
+    counts = ("steps", "force_evals", "points", "cg_iterations", "particles")
+    if col in counts and float(value).is_integer():
         return f'<td class="num">{int(value)}</td>'
     return f'<td class="num">{E(num(float(value), 4))}</td>'
 
@@ -192,12 +198,15 @@ def build(folders, figures, verdict_groups, notes, params):
                 if len(folders) > 1:
                     out.append(f"<h3>{E(f.label)}</h3>")
                 out.append(table(f.table(name), headers))
-    for f in folders:
-        if f.has("work_precision.csv"):
-            label = f" ({f.label})" if len(folders) > 1 else ""
-            out.append(f"<details><summary>Every work-precision row{E(label)}</summary>")
-            out.append(table(f.table("work_precision.csv"), WORK_PRECISION_HEADERS))
-            out.append("</details>")
+    for name, what, headers in (
+            ("work_precision.csv", "Every work-precision row", WORK_PRECISION_HEADERS),
+            ("resolution.csv", "Every resolution row", RESOLUTION_HEADERS)):
+        for f in folders:
+            if f.has(name):
+                label = f" ({f.label})" if len(folders) > 1 else ""
+                out.append(f"<details><summary>{E(what)}{E(label)}</summary>")
+                out.append(table(f.table(name), headers))
+                out.append("</details>")
 
     # plots
     if figures:

@@ -127,7 +127,7 @@ def run(argv):
     engines = []
     for f in folders:
         engines += [e for e in f.engines() if e not in engines]
-        for name in ("work_precision.csv", "stability.csv", "convergence.csv"):
+        for name in ("work_precision.csv", "stability.csv", "convergence.csv", "resolution.csv"):
             if f.has(name):
                 keys = [style.config_key(e, i) for e, i in style.configs(f.table(name))]
                 engines += [k for k in keys if k not in engines]

@@ -322,4 +322,27 @@ def sweep_verdicts(f):
                     if e not in scopes:
                         lines.append(("bad", f"{e}: no stable configuration meets the tolerance."))
         groups.append(("Accuracy and cost", lines))
+
+    if f.has("resolution.csv"):
+        lines = []
+        res = f.table("resolution.csv")
+        for e, i in dict.fromkeys(zip(res["engine"], res["integrator"])):
+            key = _key(e, i)
+            rows = res.where((res["engine"] == e) & (res["integrator"] == i))
+            rows = rows.where(np.argsort(rows["particles"], kind="stable"))
+            ok = (rows["stable"] >= 0.5) & np.isfinite(rows["error_final"])
+            unstable = [_grid(p) for p in rows["particles"][rows["stable"] < 0.5]]
+            parts = [f"{length(float(err))} on {_grid(p)}"
+                     for p, err in zip(rows["particles"][ok], rows["error_final"][ok])]
+            text = f"{key}: final error {', '.join(parts)}" if parts else f"{key}: no stable grid"
+            if unstable:
+                text += f"; unstable on {', '.join(unstable)}"
+            lines.append(("bad" if unstable else "info", text + "."))
+        groups.append(("Grid resolution", lines))
     return groups
+
+
+def _grid(particles):
+    """'r × r' of an r by r grid of #P particles."""
+    r = int(round(math.sqrt(particles)))
+    return f"{r} × {r}"

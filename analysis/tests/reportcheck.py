@@ -27,6 +27,7 @@ IMAGES_FROM = {
     "work_precision.csv": ["work_precision", "convergence"],
     "convergence.csv": ["convergence"],
     "stability.csv": ["stability"],
+    "resolution.csv": ["resolution"],
 }
 
 # sensible pixel sizes of a report image (12 in wide at 110 dpi is 1320 px)

@@ -61,6 +61,14 @@ class ReadTable(unittest.TestCase):
         with self.assertRaisesRegex(ReportError, "line 2, column 'scope': empty value"):
             read_table(self.write("recommendation.csv", header + "\n,custom,rk4,1e-4,1,1,1\n"))
 
+    def test_resolution_rows(self):
+        header = ",".join(SCHEMAS["resolution.csv"].required) + ",rerun"
+        t = read_table(self.write("resolution.csv", header + '\ncustom-rk4,midpoint,81,0.0001,1,'
+                                  '0.000375,0.0786,4000,"--set cloth.particles=[9,9]"\n'))
+        self.assertEqual(t["particles"][0], 81.0)
+        self.assertEqual(t["stable"][0], 1.0)
+        self.assertEqual(t["rerun"][0], "--set cloth.particles=[9,9]")
+
     def test_blank_lines_and_crlf(self):
         header = ",".join(SCHEMAS["convergence.csv"].required)
         t = read_table(self.write("convergence.csv", header + "\r\ncustom,rk4,4,5\r\n\r\n"))

@@ -234,9 +234,10 @@ class StabilityWithoutRatio(MadeFolder, StabilityLimitsFixture):
 
 
 class NothingMeetsTheTolerance(ReportChecks, unittest.TestCase):
-    """Real accuracy output with --tolerance 1e-30: recommendation.csv without a configuration."""
+    """Real accuracy output with --tolerance 1e-30 (recommendation.csv without a configuration)
+    and --resolutions 5,9,13 (resolution.csv)."""
     folders = (os.path.join(rc.FIXTURES, "accuracy_flag"),)
-    must_have = ("work_precision.csv", "recommendation.csv")
+    must_have = ("work_precision.csv", "recommendation.csv", "resolution.csv")
     extra_args = ("--svg",)
 
     def test_verdicts_say_nothing_meets_it(self):
@@ -252,6 +253,16 @@ class NothingMeetsTheTolerance(ReportChecks, unittest.TestCase):
         self.assertIn("nothing meets the tolerance overall", svg)
         self.assertNotIn("dt nan", svg)
         self.assertNotIn("dt n/a", svg)
+
+    def test_resolution_plot_and_verdicts(self):
+        svg = self.svg("resolution")
+        for label in ("final RMS error vs finest-grid reference (m)",
+                      "wall time per simulated second (s/s)", "13 × 13", "h 0.125 m",
+                      "custom-rk4 / midpoint", "bullet-deformable-explicit"):
+            self.assertIn(label, svg)
+        self.assertIn("custom-rk4 / symplectic-euler: final error 5.47 mm on 5 × 5, 366 µm on "
+                      "9 × 9, 15.4 µm on 13 × 13.", self.page())
+        self.assertIn("Every resolution row", self.page())
 
 
 class PartialFolder(MadeFolder, ReportChecks, unittest.TestCase):
