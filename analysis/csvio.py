@@ -60,9 +60,15 @@ SCHEMAS = {
     "convergence.csv": Schema(
         ["engine", "integrator", "order", "points"],
         text=["engine", "integrator"], keys=["engine"]),
+    # when nothing meets the tolerance a row keeps its scope and tolerance only (and the engine
+    # of an "engine" row): "engine,custom-rk4,,,,,1e-30", "overall,,,,,,1e-30"
     "recommendation.csv": Schema(
         ["scope", "engine", "integrator", "dt", "error_max", "wall_s_per_sim_s", "tolerance"],
-        text=["scope", "engine", "integrator"], keys=["scope", "engine"]),
+        text=["scope", "engine", "integrator"], keys=["scope"]),
+    "resolution.csv": Schema(
+        ["engine", "integrator", "particles", "dt", "stable", "error_final", "wall_s_per_sim_s",
+         "force_evals"],
+        text=["engine", "integrator"], flags=["stable"], keys=["engine", "particles", "stable"]),
 }
 
 _TRUE = {"1", "true", "True", "TRUE"}

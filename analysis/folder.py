@@ -2,7 +2,8 @@
 
 A run folder (`clothbench run`) holds frames, divergence, snapshots and summary; a sweep folder
 (`clothbench stability` / `accuracy`) holds stability, work_precision, convergence and
-recommendation. A folder may hold any subset; the report draws what is there.
+recommendation, and resolution with `accuracy --resolutions`. A folder may hold any subset; the
+report draws what is there.
 """
 
 import json

@@ -33,6 +33,11 @@ WORK_PRECISION_HEADERS = {
     "wall_s_per_sim_s": "wall s / sim s", "force_evals": "force evals",
     "cg_iterations": "CG iterations",
 }
+RESOLUTION_HEADERS = {
+    "engine": "engine", "integrator": "integrator", "particles": "particles", "dt": "dt (s)",
+    "stable": "stable", "error_final": "final error (m)", "wall_s_per_sim_s": "wall s / sim s",
+    "force_evals": "force evals",
+}
 
 CSS = """
 body { font-family: "DejaVu Sans", Helvetica, Arial, sans-serif; font-size: 15px; color: #1d1d1f;
@@ -60,6 +65,7 @@ tr.unstable td { background: #fdeaea; }
 figure { margin: 18px 0 26px; }
 figure img { display: block; max-width: 100%; height: auto; border: 1px solid #dde; }
 figcaption { color: #333; font-size: 14px; margin-top: 6px; max-width: 1100px; }
+p.skipped { color: #555; font-style: italic; margin: 4px 0; }
 pre { background: #f4f5f7; padding: 10px; font-size: 12px; overflow-x: auto; }
 details summary { cursor: pointer; color: #2455a4; margin: 6px 0; }
 ul.params { margin: 6px 0; padding-left: 22px; }
@@ -78,7 +84,8 @@ def _cell(value, col, text_cols):
         return f"<td>{'yes' if value >= 0.5 else '<b>no</b>'}</td>"
     if isinstance(value, float) and math.isnan(value):
         return '<td class="num"></td>'
-    if col in ("steps", "force_evals", "points", "cg_iterations") and float(value).is_integer():
+    counts = ("steps", "force_evals", "points", "cg_iterations", "particles")
+    if col in counts and float(value).is_integer():
         return f'<td class="num">{int(value)}</td>'
     return f'<td class="num">{E(num(float(value), 4))}</td>'
 
@@ -137,7 +144,8 @@ def build(folders, figures, verdict_groups, notes, params):
     """The page as a string.
 
     folders         one or two Folder objects
-    figures         list of (title, caption, png path)
+    figures         list of (stem, title, caption, png path); path None: a plot left out,
+                    whose caption says why
     verdict_groups  list of (heading, [(kind, text)]) from verdicts
     notes           list of strings (files missing, plots skipped)
     params          list of (folder label, [(name, text)]) key scenario parameters
@@ -190,17 +198,24 @@ def build(folders, figures, verdict_groups, notes, params):
                 if len(folders) > 1:
                     out.append(f"<h3>{E(f.label)}</h3>")
                 out.append(table(f.table(name), headers))
-    for f in folders:
-        if f.has("work_precision.csv"):
-            label = f" ({f.label})" if len(folders) > 1 else ""
-            out.append(f"<details><summary>Every work-precision row{E(label)}</summary>")
-            out.append(table(f.table("work_precision.csv"), WORK_PRECISION_HEADERS))
-            out.append("</details>")
+    for name, what, headers in (
+            ("work_precision.csv", "Every work-precision row", WORK_PRECISION_HEADERS),
+            ("resolution.csv", "Every resolution row", RESOLUTION_HEADERS)):
+        for f in folders:
+            if f.has(name):
+                label = f" ({f.label})" if len(folders) > 1 else ""
+                out.append(f"<details><summary>{E(what)}{E(label)}</summary>")
+                out.append(table(f.table(name), headers))
+                out.append("</details>")
 
     # plots
     if figures:
         out.append("<h2>Plots</h2>")
-        for heading, caption, path in figures:
+        for stem, heading, caption, path in figures:
+            if path is None:
+                out.append(f'<h3>{E(heading)}</h3>'
+                           f'<p class="skipped" id="skipped-{E(stem)}">{E(caption)}</p>')
+                continue
             out.append(f"<figure><h3>{E(heading)}</h3>{image(path)}"
                        f"<figcaption>{E(caption)}</figcaption></figure>")
 

@@ -2,14 +2,15 @@
 """Turn a clothbench output folder into plots and one self-contained report.html.
 
 usage: report.py DIR [--compare DIR2] [--labels A,B] [--out OUTDIR] [--svg]
-                 [--snapshot-times T1,T2,...] [--tolerance E]
+                 [--snapshot-times T1,T2,...] [--tolerance E] [--debug]
 
 DIR is the output folder of `clothbench run` and/or a sweep (`clothbench stability`,
 `clothbench accuracy`); the report draws every plot the folder has data for. With --compare the
 same plots show both folders: DIR with solid lines, DIR2 dashed.
 
 Exit codes: 0 report written; 2 bad input (missing folder, no CSV, missing column, malformed
-value: one line on stderr naming the file); 1 internal error.
+value: one line on stderr naming the file); 1 internal error (one line; --debug or
+CLOTHBENCH_REPORT_DEBUG=1 prints the traceback).
 """
 
 import argparse
@@ -27,6 +28,7 @@ from analysis.csvio import ReportError  # noqa: E402
 from analysis.folder import Folder  # noqa: E402
 
 PROG = "report"
+DEBUG_ENV = "CLOTHBENCH_REPORT_DEBUG"
 
 
 def parse_args(argv):
@@ -48,6 +50,8 @@ def parse_args(argv):
     p.add_argument("--tolerance", metavar="E", type=float,
                    help="error tolerance (m) drawn on the work-precision plot (default: from "
                         "recommendation.csv)")
+    p.add_argument("--debug", action="store_true",
+                   help=f"print the traceback of an internal error (or set {DEBUG_ENV}=1)")
     return p.parse_args(argv)
 
 
@@ -123,17 +127,21 @@ def run(argv):
     engines = []
     for f in folders:
         engines += [e for e in f.engines() if e not in engines]
-        for name in ("work_precision.csv", "stability.csv", "convergence.csv"):
+        for name in ("work_precision.csv", "stability.csv", "convergence.csv", "resolution.csv"):
             if f.has(name):
                 keys = [style.config_key(e, i) for e, i in style.configs(f.table(name))]
                 engines += [k for k in keys if k not in engines]
     ctx = Context(outdir, args.svg, style.Colors(engines), snapshot_times, args.tolerance)
 
+    # (stem, title, caption, PNG path) of each plot, or (stem, title, why it is left out, None)
     figures = []
     for plot in ALL:
         if any(plot.available(f) for f in folders):
-            path = plot.draw(folders, ctx)
-            figures.append((plot.TITLE, plot.CAPTION, path))
+            reason = plot.skip_reason(folders) if hasattr(plot, "skip_reason") else None
+            if reason:
+                figures.append((plot.STEM, plot.TITLE, f"Not drawn: {reason}", None))
+            else:
+                figures.append((plot.STEM, plot.TITLE, plot.CAPTION, plot.draw(folders, ctx)))
 
     groups = []
     for f in folders:
@@ -150,19 +158,34 @@ def run(argv):
     with open(tmp, "w", encoding="utf-8") as fh:
         fh.write(text)
     os.replace(tmp, target)
-    print(f"wrote {target} ({len(figures)} plots: "
-          f"{', '.join(os.path.basename(p) for _, _, p in figures)})")
+    drawn = [os.path.basename(p) for _, _, _, p in figures if p]
+    left_out = [t for _, t, _, p in figures if not p]
+    print(f"wrote {target} ({len(drawn)} plots: {', '.join(drawn)}"
+          + (f"; not drawn: {', '.join(left_out)}" if left_out else "") + ")")
     return 0
 
 
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
     try:
-        return run(sys.argv[1:] if argv is None else argv)
+        return run(argv)
     except ReportError as e:
         print(f"{PROG}: error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         return 130
+    except Exception as e:  # a bug here, not the user's input: one line, the traceback on demand
+        if "--debug" in argv or os.environ.get(DEBUG_ENV, "") not in ("", "0"):
+            raise
+        where = ""
+        tb = e.__traceback__
+        while tb is not None:
+            where = f" at {os.path.basename(tb.tb_frame.f_code.co_filename)}:{tb.tb_lineno}"
+            tb = tb.tb_next
+        text = " ".join(str(e).split())
+        print(f"{PROG}: internal error: {type(e).__name__}: {text}{where} (a bug in the report; "
+              f"rerun with --debug or {DEBUG_ENV}=1 for the traceback)", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

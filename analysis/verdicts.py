@@ -202,6 +202,59 @@ def _key(engine, integrator):
     return f"{engine} / {integrator}" if integrator else str(engine)
 
 
+STABILITY_GOAL = 0.10  # relative agreement asked of measured and predicted stable time steps
+
+
+def stability_agreement(measured, predicted, ratio, censored):
+    """(kind, text) comparing one measured stable dt (s) with linear theory's prediction.
+
+    predicted  s; inf: unconditionally stable in linear theory; NaN: no theory (Bullet)
+    ratio      measured / predicted from the CSV, or NaN (then computed here)
+    censored   True when the search stopped at the largest dt tried without a failure, so
+               the measured dt, and the ratio, are lower bounds
+    """
+    if isinstance(predicted, float) and math.isinf(predicted) and predicted > 0:
+        theory = "; unconditionally stable in linear theory (predicted dt infinite)"
+        if censored:
+            return "ok", theory + ", which agrees"
+        return "bad", theory + ", yet a larger step failed"
+    if not _finite(predicted) or predicted <= 0:
+        return "info", "; no predicted limit"
+    if not _finite(ratio):
+        ratio = measured / predicted
+    text = f"; predicted {num(predicted)} s, measured / predicted "
+    if censored:
+        if ratio > 1.0 + STABILITY_GOAL:
+            return "bad", text + (f"at least {ratio:.2f} (a lower bound, already above "
+                                  f"{100 * STABILITY_GOAL:.0f} %)")
+        return "info", text + (f"at least {ratio:.2f} (a lower bound: raise --dt-max above "
+                               f"the prediction to measure the limit)")
+    within = abs(ratio - 1.0) <= STABILITY_GOAL
+    return ("ok" if within else "bad"), text + (f"{ratio:.2f} ({'within' if within else 'outside'} "
+                                                f"{100 * STABILITY_GOAL:.0f} %)")
+
+
+def recommendation_found(row):
+    """True when a recommendation.csv row names a configuration (its dt is there)."""
+    return _finite(row["dt"])
+
+
+def best_error(f, rec_row):
+    """', the smallest max error reached is ... by ...' for a recommendation that found nothing,
+    from work_precision.csv (its engine's rows, or every row for scope overall), or ''."""
+    if not f.has("work_precision.csv"):
+        return ""
+    wp = f.table("work_precision.csv")
+    ok = (wp["stable"] >= 0.5) & np.isfinite(wp["error_max"])
+    if rec_row["scope"] != "overall":
+        ok &= wp["engine"] == rec_row["engine"]
+    if not np.any(ok):
+        return ", and no configuration stayed stable"
+    k = int(np.flatnonzero(ok)[np.argmin(wp["error_max"][ok])])
+    return (f"; the smallest max error is {length(float(wp['error_max'][k]))}, by "
+            f"{_key(wp['engine'][k], wp['integrator'][k])} at dt {num(float(wp['dt'][k]))} s")
+
+
 def sweep_verdicts(f):
     groups = []
     if f.has("stability.csv"):
@@ -212,23 +265,16 @@ def sweep_verdicts(f):
                 lines.append(("bad", f"{key}: no stable time step found."))
                 continue
             text = f"{key}: largest stable dt {num(r['stable_dt'])} s"
-            if _finite(r["first_unstable_dt"]):
+            # a search that never failed stopped at --dt-max: the measured limit is a lower bound
+            censored = not _finite(r["first_unstable_dt"])
+            if censored:
+                text += " (no failure up to the largest step tried, so the limit is at least that)"
+            else:
                 text += f" (first failure at {num(r['first_unstable_dt'])} s"
                 text += f", {r['cause']})" if r["cause"] else ")"
-            else:
-                text += " (no failure up to the largest step tried)"
-            kind = "info"
-            if _finite(r["predicted_dt"]):
-                ratio = r["ratio_measured_to_predicted"]
-                if not _finite(ratio):
-                    ratio = r["stable_dt"] / r["predicted_dt"]
-                within = abs(ratio - 1.0) <= 0.10
-                kind = "ok" if within else "bad"
-                text += (f"; predicted {num(r['predicted_dt'])} s, measured / predicted "
-                         f"{ratio:.2f} ({'within' if within else 'outside'} 10 %)")
-            else:
-                text += "; no predicted limit"
-            lines.append((kind, text + "."))
+            kind, more = stability_agreement(r["stable_dt"], r["predicted_dt"],
+                                             r["ratio_measured_to_predicted"], censored)
+            lines.append((kind, text + more + "."))
         groups.append(("Stability limits", lines))
 
     if f.has("convergence.csv"):
@@ -262,6 +308,10 @@ def sweep_verdicts(f):
                 scope = "overall" if r["scope"] == "overall" else f"for {r['engine']}"
                 tol = f" within tolerance {num(r['tolerance'])} m" \
                     if _finite(r["tolerance"]) else ""
+                if not recommendation_found(r):
+                    lines.append(("bad", f"Nothing meets the tolerance {scope}: no stable "
+                                  f"configuration{tol}{best_error(f, r)}."))
+                    continue
                 lines.append(("ok", f"Cheapest{tol} {scope}: {_key(r['engine'], r['integrator'])} "
                               f"at dt {num(r['dt'])} s (max error {length(r['error_max'])}, "
                               f"{num(r['wall_s_per_sim_s'])} s of wall time per simulated "
@@ -272,4 +322,27 @@ def sweep_verdicts(f):
                     if e not in scopes:
                         lines.append(("bad", f"{e}: no stable configuration meets the tolerance."))
         groups.append(("Accuracy and cost", lines))
+
+    if f.has("resolution.csv"):
+        lines = []
+        res = f.table("resolution.csv")
+        for e, i in dict.fromkeys(zip(res["engine"], res["integrator"])):
+            key = _key(e, i)
+            rows = res.where((res["engine"] == e) & (res["integrator"] == i))
+            rows = rows.where(np.argsort(rows["particles"], kind="stable"))
+            ok = (rows["stable"] >= 0.5) & np.isfinite(rows["error_final"])
+            unstable = [_grid(p) for p in rows["particles"][rows["stable"] < 0.5]]
+            parts = [f"{length(float(err))} on {_grid(p)}"
+                     for p, err in zip(rows["particles"][ok], rows["error_final"][ok])]
+            text = f"{key}: final error {', '.join(parts)}" if parts else f"{key}: no stable grid"
+            if unstable:
+                text += f"; unstable on {', '.join(unstable)}"
+            lines.append(("bad" if unstable else "info", text + "."))
+        groups.append(("Grid resolution", lines))
     return groups
+
+
+def _grid(particles):
+    """'r × r' of an r by r grid of #P particles."""
+    r = int(round(math.sqrt(particles)))
+    return f"{r} × {r}"

@@ -1,10 +1,14 @@
-"""One module per plot. Each has STEM (file name), CAPTION, available(folder) and
-draw(folders, ctx) -> PNG path, where folders is one Folder or two (--compare)."""
+"""One module per plot. Each has STEM (file name), TITLE, CAPTION, available(folder) and
+draw(folders, ctx) -> PNG path, where folders is one Folder or two (--compare). A plot that can
+have nothing to show on some data also has skip_reason(folders) -> None, or the sentence the page
+shows in its place."""
 
-from . import convergence, divergence, drape, energy, shadow, stability, strain, work_precision
+from . import (convergence, divergence, drape, energy, resolution, shadow, stability, strain,
+               work_precision)
 
 # in the order the report shows them
-ALL = [energy, divergence, strain, drape, shadow, work_precision, convergence, stability]
+ALL = [energy, divergence, strain, drape, shadow, work_precision, convergence, resolution,
+       stability]
 
 
 class Context:

@@ -59,6 +59,10 @@ def draw(folders, ctx):
             ax.set_yscale("log", nonpositive="mask")
         else:
             ax.axhline(0.0, color="0.5", lw=0.8)
+        if col == "shadow_area_difference" and len(style.finite(values)) and \
+                not np.any(style.finite(values)):
+            # a chain, or a cloth edge-on from above, casts no shadow in any engine
+            style.note(ax, "zero throughout: no engine's cloth casts a shadow from above")
         ax.set_title(name)
         ax.set_ylabel(unit)
         ax.set_xlabel("time t (s)")

@@ -11,10 +11,12 @@ STEM = "drape"
 TITLE = "Drape shape"
 CAPTION = ("The cloth at chosen snapshot times (columns) for every engine (rows), drawn with the "
            "same view and the same scale in every panel; the sphere is drawn where the scenario "
-           "has one. A panel stays empty where the engine had already blown up.")
+           "has one, and a 1 × N grid (a chain) as its particles joined by a line. A panel stays "
+           "empty where the engine had already blown up.")
 
 ELEV, AZIM = 22.0, -58.0  # degrees, one view for every panel
 MAX_COLUMNS = 4
+MIN_SIDE = 0.35  # each side of the view box spans at least this fraction of the longest
 
 
 def available(folder):
@@ -84,10 +86,11 @@ def view_box(folders, pairs, times_of):
             # only the part of the sphere near the cloth matters for the view
             lo = np.minimum(lo, [c[0] - r, c[1] - r, c[2] - r])
             hi = np.maximum(hi, [c[0] + r, max(c[1] + r, hi[1]), c[2] + r])
-    pad = 0.05 * max(hi - lo)
-    lo, hi = lo - pad, hi + pad
-    span = np.maximum(hi - lo, 1e-3)
-    return lo, lo + span
+    # a chain or an edge-on cloth is flat along some axis: give every side some depth
+    longest = max(max(hi - lo), 1e-3)
+    grow = np.maximum(hi - lo, MIN_SIDE * longest) - (hi - lo)
+    pad = 0.05 * longest
+    return lo - grow / 2 - pad, hi + grow / 2 + pad
 
 
 def draw_sphere(ax, c, r, box):
@@ -132,7 +135,10 @@ def draw(folders, ctx):
     nrows = len(pairs)
     times_of = {(f.label, e): [t for t in f.snapshot_times(e)] for f, e in pairs}
     lo, hi = view_box(folders, pairs, times_of)
-    fig = plt.figure(figsize=(12, 1.3 + 2.8 * nrows), layout="constrained")
+    # a tall view box (a hanging chain) gets taller rows, so titles and axes labels do not meet
+    tall = (hi[1] - lo[1]) / max(hi[0] - lo[0], hi[2] - lo[2])
+    fig = plt.figure(figsize=(12, 1.3 + 2.8 * min(max(tall, 1.0), 1.6) * nrows),
+                     layout="constrained")
     for r, (f, engine) in enumerate(pairs):
         blow = f.blowup(engine)
         previous = None
@@ -165,7 +171,12 @@ def draw(folders, ctx):
             state = ""
             if blow is not None and (np.isnan(blow) or t >= blow - 1e-12):
                 state = " — blown up"
-            if ok:
+            if ok and min(g.shape[:2]) < 2:
+                # a 1 by N grid (a chain) has no surface: its particles joined by a line
+                ax.plot(g[:, :, 0].ravel(), g[:, :, 2].ravel(), g[:, :, 1].ravel(),
+                        color=ctx.colors[engine], lw=2, marker="o", ms=3.5, mec="black",
+                        mew=0.4)
+            elif ok:
                 ax.plot_surface(g[:, :, 0], g[:, :, 2], g[:, :, 1], color=ctx.colors[engine],
                                 edgecolor="black", linewidth=0.25, alpha=0.9, shade=True)
             else:

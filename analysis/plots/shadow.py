@@ -15,7 +15,9 @@ CAPTION = ("Top view of the final cloth of every engine: its shadow on the plane
            "(shadow area − support area) / (cloth area − support area) where the run reports "
            "one.")
 
-RASTER = 800  # cells along the longer side of the shadow raster
+RASTER = 800     # cells along the longer side of the shadow raster
+EDGE_ON = 1e-6   # a shadow below this fraction of the cloth's own area counts as none
+MIN_SIDE = 0.2   # each side of the window spans at least this fraction of the longer one
 
 
 def axes_of(folder):
@@ -48,6 +50,43 @@ def shadow_mask(grid, ab, gx, gy):
                 eps = 1e-9
                 inside[i0:i1 + 1, j0:j1 + 1] |= (l1 >= -eps) & (l2 >= -eps) & (l1 + l2 <= 1 + eps)
     return inside
+
+
+def triangle_areas(grid, ab=None):
+    """Areas (m²) of the 2 (nu - 1)(nv - 1) triangles of a nu by nv by 3 grid: in space, or
+    projected on the plane of the world axes ab. Empty for a 1 by N grid (a chain)."""
+    a, b, c = grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:]
+    d = grid[:-1, 1:]
+    tris = [(a, b, c), (a, c, d)]
+    if ab is None:
+        out = [0.5 * np.linalg.norm(np.cross(q - p, r - p), axis=-1) for p, q, r in tris]
+    else:
+        u = [((q - p)[..., ab], (r - p)[..., ab]) for p, q, r in tris]
+        out = [0.5 * np.abs(s[..., 0] * t[..., 1] - s[..., 1] * t[..., 0]) for s, t in u]
+    return np.concatenate([o.ravel() for o in out])
+
+
+def casts_shadow(grid, ab):
+    """True when the grid's shadow on the plane of axes ab has area (it is not edge-on)."""
+    full = triangle_areas(grid).sum()
+    return full > 0 and triangle_areas(grid, ab).sum() > EDGE_ON * full
+
+
+def skip_reason(folders):
+    """Why the plot would show nothing, or None: a chain (1 by N grid) has no area, and a cloth
+    hanging in a plane that holds gravity is edge-on from above."""
+    panels = [f for f in folders if f.has("snapshots.csv")]
+    shapes = [final_shapes(f) for f in panels]
+    grids = [f.grid_shape() for f in panels]
+    if all(min(g) < 2 for g in grids):
+        nu, nv = grids[0]
+        return (f"the cloth is a {nu} × {nv} grid, a chain of particles: it has no area, so it "
+                f"casts no shadow from above.")
+    finals = [(f, g) for f, sh in zip(panels, shapes) for _, g in sh.values()]
+    if finals and not any(casts_shadow(g, axes_of(f)) for f, g in finals):
+        return ("every final cloth is edge-on from above (it hangs in a plane that holds "
+                "gravity), so its shadow on the plane normal to gravity has no area.")
+    return None
 
 
 def final_shapes(folder):
@@ -95,8 +134,11 @@ def draw(folders, ctx):
     pts = np.concatenate(pts)[:, ab]
     pts = pts[np.all(np.isfinite(pts), axis=1)]
     lo, hi = pts.min(axis=0), pts.max(axis=0)
-    pad = 0.06 * max(hi - lo)
-    lo, hi = lo - pad, hi + pad
+    # an edge-on cloth is a line from above: widen the short side so that the cells have size
+    longest = max(hi - lo) if max(hi - lo) > 0 else 1.0
+    grow = np.maximum(hi - lo, MIN_SIDE * longest) - (hi - lo)
+    pad = 0.06 * longest
+    lo, hi = lo - grow / 2 - pad, hi + grow / 2 + pad
     cell = max(hi - lo) / RASTER
     gx = np.arange(lo[0], hi[0] + cell, cell)
     gy = np.arange(lo[1], hi[1] + cell, cell)
@@ -147,11 +189,18 @@ def draw(folders, ctx):
                 continue
             t, g = sh[e]
             mask = shadow_mask(g, ab, gx, gy).astype(float)
-            ax.contourf(gx, gy, mask.T, levels=[0.5, 1.5], colors=[color], alpha=0.22)
-            ax.contour(gx, gy, mask.T, levels=[0.5], colors=[color], linewidths=1.8)
-            area = mask.sum() * cell * cell
+            if np.any(mask):
+                ax.contourf(gx, gy, mask.T, levels=[0.5, 1.5], colors=[color], alpha=0.22)
+                ax.contour(gx, gy, mask.T, levels=[0.5], colors=[color], linewidths=1.8)
+                area = f"{mask.sum() * cell * cell:.3g} m²"
+            else:
+                # edge-on or a chain: the projected cloth itself, as a line
+                ax.plot(g[:, :, ab[0]].ravel(), g[:, :, ab[1]].ravel(), color=color, lw=0,
+                        marker=".", ms=3)
+                area = "0 m² (" + ("a chain: no area" if min(g.shape[:2]) < 2
+                                   else "edge-on from above") + ")"
             handles.append((plt.Line2D([], [], color=color, lw=6, alpha=0.5),
-                            f"{e} (t = {style.fmt(t)} s): shadow {area:.3g} m², {dc_text}"))
+                            f"{e} (t = {style.fmt(t)} s): shadow {area}, {dc_text}"))
         ax.set_aspect("equal")
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])

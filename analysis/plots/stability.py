@@ -4,15 +4,19 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from . import style
+from ..verdicts import STABILITY_GOAL
 
 STEM = "stability"
 TITLE = "Stability limits"
 CAPTION = ("Largest stable time step per engine and integrator. Top: measured (circle; the red "
            "triangle above it is the first failing time step) beside the prediction from the "
            "linearised scene's extreme eigenvalues (diamond); an arrow means no failure up to the "
-           "largest step tried. Bottom: measured / predicted, with the ±10 % band shaded.")
+           "largest step tried, so the measured step is a lower bound. An integrator that is "
+           "unconditionally stable in linear theory (predicted dt infinite) is labelled so. "
+           "Bottom: measured / predicted, with the ±10 % band shaded; an upward arrow marks a "
+           "lower bound.")
 
-GOAL = 0.10  # relative agreement the sweeps issue asks for on scenes without contact
+GOAL = STABILITY_GOAL  # relative agreement asked for on scenes without contact (the ±10 % band)
 
 
 def available(folder):
@@ -56,8 +60,12 @@ def draw(folders, ctx):
             xm, xp = n + base, n + base + step
             meas, fail = rows["stable_dt"][0], rows["first_unstable_dt"][0]
             pred, ratio = rows["predicted_dt"][0], rows["ratio_measured_to_predicted"][0]
-            if not np.isfinite(ratio) and np.isfinite(meas) and np.isfinite(pred) and pred > 0:
+            if not (np.isfinite(pred) and pred > 0):
+                ratio = np.nan  # no finite prediction: nothing to compare with
+            elif not np.isfinite(ratio) and np.isfinite(meas):
                 ratio = meas / pred
+            # no failure up to the largest step tried: measured dt and ratio are lower bounds
+            censored = not np.isfinite(fail)
             if np.isfinite(meas):
                 ax.plot([xm], [meas], marker="o", ms=10, ls="none", color="tab:blue",
                         mfc="white" if hollow else "tab:blue", mew=2,
@@ -82,15 +90,31 @@ def draw(folders, ctx):
                         mec="tab:orange", mew=2.2, label=lab("predicted largest stable dt"))
                 values.append(pred)
             elif np.isfinite(meas):
-                ax.annotate("no prediction", (xp, meas), ha="center", va="center",
-                            rotation=90, fontsize=style.FONT - 1, color="0.45")
+                unconditional = np.isinf(pred) and pred > 0
+                text = "unconditionally stable\n(linear theory: no limit)" if unconditional \
+                    else "no prediction"
+                ax.annotate(text, (xp, meas), ha="center", va="center", rotation=90,
+                            fontsize=style.FONT - 1,
+                            color="tab:orange" if unconditional else "0.45")
             if np.isfinite(ratio):
-                ax_r.plot([n + base + step / 2], [ratio], marker="o" if not hollow else "s", ms=8,
+                xr = n + base + step / 2
+                ax_r.plot([xr], [ratio], marker="o" if not hollow else "s", ms=8,
                           ls="none", color="tab:purple", mfc="white" if hollow else "tab:purple",
                           mew=2, label=lab("measured / predicted"))
-                ax_r.annotate(f"{ratio:.2f}", (n + base + step / 2, ratio), xytext=(0, 8),
-                              textcoords="offset points", ha="center", fontsize=style.FONT - 1)
+                if censored:
+                    ax_r.annotate("", (xr, ratio + 0.12), (xr, ratio + 0.02),
+                                  arrowprops={"arrowstyle": "-|>", "color": "tab:purple",
+                                              "lw": 1.6})
+                    ax_r.plot([], [], marker="$\\uparrow$", ms=10, ls="none", color="tab:purple",
+                              label=lab("lower bound (no failure up to the largest dt)"))
+                ax_r.annotate(f"≥ {ratio:.2f}" if censored else f"{ratio:.2f}", (xr, ratio),
+                              xytext=(10, 0) if censored else (0, 8), textcoords="offset points",
+                              ha="left" if censored else "center",
+                              va="center" if censored else "baseline",
+                              fontsize=style.FONT - 1)
                 ratios.append(ratio)
+                if censored:
+                    ratios.append(ratio + 0.12)
     ax.set_yscale("log")
     if values:
         ax.set_ylim(min(values) / 2.0, max(values) * 2.5)
@@ -106,7 +130,7 @@ def draw(folders, ctx):
     ax_r.set_xticks(range(len(keys)), [style.config_key(e, i) for e, i in keys], rotation=15,
                     ha="right")
     ax_r.set_xlabel("engine / integrator")
-    style.legend(ax_r, loc="lower left", ncol=3)
+    style.legend(ax_r, loc="best", ncol=3)
     style.title(fig, TITLE, panels, engines_line=style.sweep_line(panels, ("stability.csv",)),
                 compare="markers")
     return style.save(fig, ctx.outdir, STEM, ctx.svg)

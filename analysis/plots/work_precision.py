@@ -6,6 +6,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from . import style
+from ..verdicts import recommendation_found
 
 STEM = "work_precision"
 TITLE = "Work-precision"
@@ -13,7 +14,9 @@ CAPTION = ("Work-precision: largest RMS position error over the run against the 
            "time per simulated second, one line per engine and integrator (points are time "
            "steps). Crosses on the dotted line are unstable time steps (no error). The grey band "
            "is the Pareto front; the dashed line is the tolerance and the star the recommended "
-           "configuration.")
+           "configuration (none when nothing meets the tolerance).")
+
+TOL_RANGE = 1e3  # a tolerance this far beyond every error is named in the legend, not drawn
 
 
 def available(folder):
@@ -75,12 +78,24 @@ def draw(folders, ctx):
             ax.step(fx, fy, where="post", color="black", lw=7, alpha=0.13, zorder=0,
                     label="Pareto front", solid_capstyle="round")
         tol = tolerance(f, ctx)
-        if tol is not None:
-            ax.axhline(tol, color="tab:red", ls="--", lw=1.3, label=f"tolerance {style.fmt(tol)} m")
+        if tol is not None and tol > 0:
+            # a line far below (or above) the data would squash every point into one band
+            far = len(good) and not good.min() / TOL_RANGE <= tol <= top * TOL_RANGE
+            if far:
+                where = "below" if tol < good.min() else "above"
+                ax.plot([], [], color="tab:red", ls="--", lw=1.3,
+                        label=f"tolerance {style.fmt(tol)} m (far {where} every error, not drawn)")
+            else:
+                ax.axhline(tol, color="tab:red", ls="--", lw=1.3,
+                           label=f"tolerance {style.fmt(tol)} m")
         if f.has("recommendation.csv"):
             rec = f.table("recommendation.csv")
             shown = set()
             for row in sorted(rec.rows(), key=lambda r: r["scope"] != "overall"):
+                if not recommendation_found(row):
+                    scope = "overall" if row["scope"] == "overall" else f"for {row['engine']}"
+                    ax.plot([], [], ls="none", label=f"nothing meets the tolerance {scope}")
+                    continue
                 key = (row["engine"], row["integrator"], row["dt"])
                 if key in shown:
                     continue

@@ -1,8 +1,10 @@
 """Shared checks: run report.py, validate PNG files, know which images a folder should give.
 
-Environment variables (for the lead's ctest wiring; each adds the same checks on a real folder):
-    CLOTHBENCH_RUN_DIR    output folder of a small `clothbench run`
-    CLOTHBENCH_SWEEP_DIR  output folder of a small sweep (stability and/or accuracy)
+Environment variables (for the ctest wiring; each adds the same checks on a real folder):
+    CLOTHBENCH_RUN_DIR      output folder of a small `clothbench run`
+    CLOTHBENCH_RUN_SKIPPED  plots that folder's report must leave out with a stated reason,
+                            comma separated (e.g. "shadow" for a chain or an edge-on cloth)
+    CLOTHBENCH_SWEEP_DIR    output folder of a small sweep (stability and/or accuracy)
 """
 
 import os
@@ -25,6 +27,7 @@ IMAGES_FROM = {
     "work_precision.csv": ["work_precision", "convergence"],
     "convergence.csv": ["convergence"],
     "stability.csv": ["stability"],
+    "resolution.csv": ["resolution"],
 }
 
 # sensible pixel sizes of a report image (12 in wide at 110 dpi is 1320 px)
@@ -68,6 +71,11 @@ def expected_images(*folders):
             if os.path.exists(path) and has_rows(path):
                 stems += [s for s in images if s not in stems]
     return stems
+
+
+def skipped_plots(text):
+    """Stems of the plots a report.html leaves out, each with the reason it gives."""
+    return dict(re.findall(r'<p class="skipped" id="skipped-(\w+)">([^<]*)</p>', text))
 
 
 def html_problems(text, n_images):

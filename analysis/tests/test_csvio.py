@@ -47,6 +47,28 @@ class ReadTable(unittest.TestCase):
         self.assertTrue(math.isnan(t["ratio_measured_to_predicted"][0]))
         self.assertEqual(t["cause"][0], "strain, mode 3")
 
+    def test_recommendation_that_found_nothing(self):
+        # as clothbench accuracy writes it when no configuration meets --tolerance
+        header = ",".join(SCHEMAS["recommendation.csv"].required)
+        t = read_table(self.write("recommendation.csv", header + "\nengine,custom-rk4,,,,,1e-30\n"
+                                  "overall,,,,,,1e-30\n"))
+        self.assertEqual(list(t["engine"]), ["custom-rk4", ""])
+        self.assertTrue(np.all(np.isnan(t["dt"])))
+        self.assertEqual(t["tolerance"][1], 1e-30)
+
+    def test_recommendation_needs_a_scope(self):
+        header = ",".join(SCHEMAS["recommendation.csv"].required)
+        with self.assertRaisesRegex(ReportError, "line 2, column 'scope': empty value"):
+            read_table(self.write("recommendation.csv", header + "\n,custom,rk4,1e-4,1,1,1\n"))
+
+    def test_resolution_rows(self):
+        header = ",".join(SCHEMAS["resolution.csv"].required) + ",rerun"
+        t = read_table(self.write("resolution.csv", header + '\ncustom-rk4,midpoint,81,0.0001,1,'
+                                  '0.000375,0.0786,4000,"--set cloth.particles=[9,9]"\n'))
+        self.assertEqual(t["particles"][0], 81.0)
+        self.assertEqual(t["stable"][0], 1.0)
+        self.assertEqual(t["rerun"][0], "--set cloth.particles=[9,9]")
+
     def test_blank_lines_and_crlf(self):
         header = ",".join(SCHEMAS["convergence.csv"].required)
         t = read_table(self.write("convergence.csv", header + "\r\ncustom,rk4,4,5\r\n\r\n"))
@@ -80,12 +102,61 @@ class Formatting(unittest.TestCase):
         self.assertEqual(length(1.5), "1.5 m")
 
 
+class StabilityAgreement(unittest.TestCase):
+    """Measured against predicted stable time steps (s), in words."""
+
+    def agree(self, measured, predicted, ratio=math.nan, censored=False):
+        from analysis.verdicts import stability_agreement
+        return stability_agreement(measured, predicted, ratio, censored)
+
+    def test_found_limit(self):
+        self.assertEqual(self.agree(0.97e-3, 1e-3, 0.97)[0], "ok")
+        kind, text = self.agree(0.5e-3, 1e-3)
+        self.assertEqual(kind, "bad")
+        self.assertIn("0.50 (outside 10 %)", text)
+
+    def test_censored_ratio_is_a_lower_bound(self):
+        kind, text = self.agree(0.5e-3, 1e-3, 0.5, censored=True)
+        self.assertEqual(kind, "info")
+        self.assertIn("at least 0.50 (a lower bound", text)
+        # stable beyond the prediction by more than 10 %: a disagreement even as a bound
+        kind, text = self.agree(1.5e-3, 1e-3, math.nan, censored=True)
+        self.assertEqual(kind, "bad")
+        self.assertIn("at least 1.50", text)
+
+    def test_unconditionally_stable(self):
+        kind, text = self.agree(0.01, math.inf, censored=True)
+        self.assertEqual(kind, "ok")
+        self.assertIn("unconditionally stable in linear theory", text)
+        kind, text = self.agree(0.01, math.inf, censored=False)
+        self.assertEqual(kind, "bad")
+        self.assertIn("yet a larger step failed", text)
+
+    def test_no_theory(self):
+        self.assertEqual(self.agree(1e-3, math.nan), ("info", "; no predicted limit"))
+
+
 class PlotHelpers(unittest.TestCase):
     def test_pareto_front(self):
         from analysis.plots.work_precision import pareto
         x = np.array([1.0, 2.0, 3.0, 4.0, 0.5])
         y = np.array([1e-2, 1e-3, 2e-3, 1e-5, 1e-1])
         self.assertEqual(pareto(x, y), [4, 0, 1, 3])
+
+    def test_triangle_areas(self):
+        from analysis.plots.shadow import casts_shadow, triangle_areas
+        # a flat 2 x 3 grid, 1 m by 2 m in the xz plane: four triangles of 0.5 m²
+        i, j = np.meshgrid([0.0, 1.0], [0.0, 1.0, 2.0], indexing="ij")
+        flat = np.stack([i, np.zeros_like(i), j], axis=-1)
+        np.testing.assert_allclose(triangle_areas(flat), [0.5] * 4)
+        np.testing.assert_allclose(triangle_areas(flat, [0, 2]), [0.5] * 4)
+        self.assertTrue(casts_shadow(flat, [0, 2]))
+        # the same grid stood up in the xy plane is edge-on from above
+        upright = flat[:, :, [0, 2, 1]]
+        self.assertFalse(casts_shadow(upright, [0, 2]))
+        # a chain has no triangles
+        self.assertEqual(len(triangle_areas(flat[:1])), 0)
+        self.assertFalse(casts_shadow(flat[:1], [0, 2]))
 
     def test_snapshot_choice(self):
         from analysis.plots.drape import choose_times

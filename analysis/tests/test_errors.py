@@ -1,9 +1,13 @@
-"""Bad input gives one clear line on stderr naming the file, exit code 2, no traceback."""
+"""Bad input gives one clear line on stderr naming the file, exit code 2, no traceback; an
+internal error gives one line and exit code 1, its traceback only on request."""
 
+import contextlib
+import io
 import os
 import shutil
 import tempfile
 import unittest
+from unittest import mock
 
 from analysis.tests import reportcheck as rc
 
@@ -122,6 +126,48 @@ class BadInput(unittest.TestCase):
         self.assertFalse(os.path.exists(os.path.join(self.out, "divergence.png")))
         with open(os.path.join(self.out, "report.html"), encoding="utf-8") as f:
             self.assertIn("divergence.csv has a header but no rows.", f.read())
+
+
+class InternalError(unittest.TestCase):
+    """A bug in a plot (here a stand-in that raises) ends in one line, not a traceback."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="clothbench-internal-")
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def run_main(self, *args, env=None):
+        """(exit code or the exception raised, stderr) of report.main in this process."""
+        from analysis import report
+        from analysis.plots import energy
+        err = io.StringIO()
+        broken = mock.Mock(side_effect=ZeroDivisionError("float division by zero"))
+        with mock.patch.object(energy, "draw", broken), \
+                mock.patch.dict(os.environ, env or {}), contextlib.redirect_stderr(err):
+            try:
+                code = report.main([os.path.join(rc.FIXTURES, "run"),
+                                    "--out", os.path.join(self.tmp, "out"), *args])
+            except ZeroDivisionError as e:
+                code = e
+        return code, err.getvalue()
+
+    def test_one_line_and_a_hint(self):
+        code, err = self.run_main(env={"CLOTHBENCH_REPORT_DEBUG": ""})
+        self.assertEqual(code, 1)
+        self.assertEqual(len(err.strip().splitlines()), 1, err)
+        self.assertTrue(err.startswith("report: internal error: ZeroDivisionError: float "
+                                       "division by zero"), err)
+        self.assertIn("--debug", err)
+        self.assertNotIn("Traceback", err)
+
+    def test_debug_flag_raises(self):
+        code, _ = self.run_main("--debug", env={"CLOTHBENCH_REPORT_DEBUG": ""})
+        self.assertIsInstance(code, ZeroDivisionError)
+
+    def test_debug_variable_raises(self):
+        code, _ = self.run_main(env={"CLOTHBENCH_REPORT_DEBUG": "1"})
+        self.assertIsInstance(code, ZeroDivisionError)
 
 
 if __name__ == "__main__":
