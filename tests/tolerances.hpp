@@ -28,5 +28,13 @@ constexpr double kContactShell = 1e-12;  // m
 /// Euler and 0.1-0.7% for the others on the flag, against the full eigenproblem), and 3%
 /// past it every integrator's perturbations grow 1e5-fold within 10 s on the test scenes.
 constexpr double kLinearLimitMargin = 0.03;
+/// Measured (blow-up) stability limits over a 1 s run against the predicted ones: the issue's
+/// 10% goal. A run just past the limit must grow from round-off to the blow-up strain within
+/// the run; on the small test scene every explicit integrator but rk4 does so by 1.08x.
+constexpr double kMeasuredLimitAbove = 0.10;
+/// ... and below it, where the linearisation at rest meets the stretched cloth: the hanging
+/// cloth's own modes lower explicit Euler's limit by up to 7% (stable at 0.95x over 1 s,
+/// not over 2 s).
+constexpr double kMeasuredLimitBelow = 0.05;
 
 }  // namespace clothbench::tol

@@ -253,14 +253,6 @@ std::vector<Recommendation> recommend_all(const std::vector<AccuracyRow>& rows,
   return out;
 }
 
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return "";
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
 /// The rows of an earlier reference.csv, by study (empty when there is none).
 std::map<std::string, std::vector<std::string>> read_references(const std::string& path) {
   std::map<std::string, std::vector<std::string>> out;
