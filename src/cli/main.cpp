@@ -279,7 +279,13 @@ int main(int argc, char** argv) {
       ->excludes(dts_opt);
   accuracy->add_option(
       "--tolerance", acc.tolerance,
-      "error tolerance (m, RMS distance): recommend the cheapest configuration within it");
+      "error tolerance (m, RMS distance): recommend the cheapest configuration within it.\n"
+      "Cheapest is counted, not timed, so it does not change with the machine or --jobs: per\n"
+      "engine the fewest force evaluations + 3 x CG iterations (a CG iteration with its share\n"
+      "of the Newton linearisation costs about 3 force evaluations), times particles; Bullet\n"
+      "engines, whose work is not counted, the fewest steps x particles; ties go to the smaller\n"
+      "error. Overall compares the engines' choices by that count when all are custom, and by\n"
+      "wall time per simulated second when Bullet is among them (wall time stays in the CSV)");
   accuracy->add_option("--resolutions", resolutions_text,
                        "square grid sizes to compare at each engine's dt, e.g. 9,13,17,25,33");
   accuracy->add_option("--repeats", acc.repeats, "wall time is the median of this many runs")
