@@ -94,12 +94,12 @@ int cmd_stability(const std::string& path, const std::vector<std::string>& overr
   const std::vector<StabilityRow> rows = run_stability(sc, o);
   std::cout << "engine,integrator,stable_dt,first_unstable_dt,predicted_dt,ratio\n";
   for (const StabilityRow& r : rows) {
-    const double ratio = r.stable_dt / r.predicted_dt;
-    std::cout << r.engine << ',' << r.integrator << ',' << format_double(r.stable_dt) << ','
+    // "none": no stable dt found, or no failure up to --dt-max (the ratio is then left out)
+    std::cout << r.engine << ',' << r.integrator << ','
+              << (std::isfinite(r.stable_dt) ? format_double(r.stable_dt) : "none") << ','
               << (std::isfinite(r.first_unstable_dt) ? format_double(r.first_unstable_dt) : "none")
               << ',' << (std::isnan(r.predicted_dt) ? "" : format_double(r.predicted_dt)) << ','
-              << (std::isfinite(ratio) && ratio > 0 ? format_double(std::round(ratio * 1000) / 1000)
-                                                    : "")
+              << (std::isfinite(r.ratio) ? format_double(std::round(r.ratio * 1000) / 1000) : "")
               << '\n';
   }
   std::cout << std::flush;
@@ -222,7 +222,9 @@ int main(int argc, char** argv) {
   CLI::App* stability = app.add_subcommand(
       "stability",
       "Find the largest stable time step of each engine and integrator, measured by search\n"
-      "(doubling, then bisection) and predicted by linear theory; writes stability.csv.");
+      "(doubling, then bisection, over steps that divide the run's length) and predicted by\n"
+      "linear theory; writes stability.csv, whose rerun columns replay a row with `clothbench\n"
+      "run SCENARIO <rerun>`, and stability_scenario.toml, which --resume checks.");
   stability->add_option("scenario", scenario_path,
                         "scenario file (TOML); default: the embedded seed scene");
   stability->add_option("--out,-o", stab.out_dir, "output folder (default: out/<scenario name>)");
@@ -237,13 +239,15 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber);
   stability
       ->add_option("--rel-tol", stab.rel_tol,
-                   "bisection stops when first_unstable / stable - 1 <= this")
+                   "bisection stops when first_unstable / stable - 1 <= this (or when they are\n"
+                   "one step count apart)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   stability->add_option("--jobs,-j", stab.jobs, "searches run at once (default: all cores)")
       ->check(CLI::PositiveNumber);
   stability->add_flag("--resume", stab.resume,
-                      "keep the rows already in stability.csv and search only the rest");
+                      "keep the rows already in stability.csv and search only the rest (refused\n"
+                      "when the scenario, --set, --engine, --dt-max or --rel-tol differ)");
   stability->add_option("--set,-s", overrides, "override a scenario key (repeatable)")
       ->allow_extra_args(false);
   stability->add_flag("--quiet,-q", quiet, "no progress on stderr");
@@ -275,7 +279,13 @@ int main(int argc, char** argv) {
       ->excludes(dts_opt);
   accuracy->add_option(
       "--tolerance", acc.tolerance,
-      "error tolerance (m, RMS distance): recommend the cheapest configuration within it");
+      "error tolerance (m, RMS distance): recommend the cheapest configuration within it.\n"
+      "Cheapest is counted, not timed, so it does not change with the machine or --jobs: per\n"
+      "engine the fewest force evaluations + 3 x CG iterations (a CG iteration with its share\n"
+      "of the Newton linearisation costs about 3 force evaluations), times particles; Bullet\n"
+      "engines, whose work is not counted, the fewest steps x particles; ties go to the smaller\n"
+      "error. Overall compares the engines' choices by that count when all are custom, and by\n"
+      "wall time per simulated second when Bullet is among them (wall time stays in the CSV)");
   accuracy->add_option("--resolutions", resolutions_text,
                        "square grid sizes to compare at each engine's dt, e.g. 9,13,17,25,33");
   accuracy->add_option("--repeats", acc.repeats, "wall time is the median of this many runs")

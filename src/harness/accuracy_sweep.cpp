@@ -30,8 +30,8 @@ const std::vector<std::string> kWorkPrecisionHeader = {
     "engine", "integrator",       "dt",          "stable",        "error_final", "error_max",
     "wall_s", "wall_s_per_sim_s", "force_evals", "cg_iterations", "rerun"};
 const std::vector<std::string> kResolutionHeader = {
-    "engine",      "integrator",       "particles",   "dt",   "stable",
-    "error_final", "wall_s_per_sim_s", "force_evals", "rerun"};
+    "engine",           "integrator",  "particles",     "dt",   "stable", "error_final",
+    "wall_s_per_sim_s", "force_evals", "cg_iterations", "rerun"};
 const std::vector<std::string> kReferenceHeader = {"study",     "engine",      "integrator", "dt",
                                                    "particles", "error_floor", "rerun"};
 
@@ -199,25 +199,43 @@ AccuracyRow parse_resolution_row(const std::vector<std::string>& f) {
   r.error_max = kNaN;
   r.wall_s_per_sim_s = std::stod(f[6]);
   r.force_evals = std::stoll(f[7]);
-  r.rerun = f[8];
+  r.cg_iterations = std::stoll(f[8]);
+  r.rerun = f[9];
   if (r.rerun.size() >= 2 && r.rerun.front() == '"')
     r.rerun = r.rerun.substr(1, r.rerun.size() - 2);
   return r;
 }
 
-/// Cheaper: less wall time per simulated second, then fewer force evaluations.
-bool cheaper(const AccuracyRow& a, const AccuracyRow& b) {
-  if (a.wall_s_per_sim_s != b.wall_s_per_sim_s) return a.wall_s_per_sim_s < b.wall_s_per_sim_s;
-  return a.force_evals < b.force_evals;
+}  // namespace
+
+double counted_work(const AccuracyRow& r) {
+  if (r.integrator.empty()) return kNaN;
+  return (double(r.force_evals) + kCgIterationCost * double(r.cg_iterations)) * double(r.particles);
 }
 
-/// The cheapest stable row of rows[indices] whose error is within tolerance; when none is,
-/// the most accurate stable row (found = false).
+namespace {
+
+/// The key a row is ranked by within its engine (smaller is cheaper): the counted work of
+/// the custom engine, and for a Bullet engine, whose work is not counted, steps times
+/// particles (its cost per particle and step is fixed by its options: only dt and the grid
+/// change between its rows).
+double engine_cost(const AccuracyRow& r) {
+  return r.integrator.empty() ? double(r.particles) / r.dt : counted_work(r);
+}
+
+/// a before b among rows of one engine: cheaper, then more accurate; equal rows keep their
+/// order (the caller scans in row order and replaces only on strictly before)
+bool before(const AccuracyRow& a, const AccuracyRow& b, double AccuracyRow::*error) {
+  if (engine_cost(a) != engine_cost(b)) return engine_cost(a) < engine_cost(b);
+  return a.*error < b.*error;
+}
+
+/// The cheapest stable row of rows[indices] (one engine's) whose error is within tolerance;
+/// when none is, the most accurate stable row (found = false).
 Recommendation recommend(const std::vector<AccuracyRow>& rows, const std::vector<size_t>& indices,
-                         double tolerance, double AccuracyRow::*error, const std::string& scope,
-                         const std::string& engine) {
+                         double tolerance, double AccuracyRow::*error, const std::string& engine) {
   Recommendation rec;
-  rec.scope = scope;
+  rec.scope = "engine";
   rec.engine = engine;
   const AccuracyRow* best = nullptr;
   const AccuracyRow* closest = nullptr;
@@ -225,40 +243,57 @@ Recommendation recommend(const std::vector<AccuracyRow>& rows, const std::vector
     const AccuracyRow& r = rows[i];
     if (!r.stable || !std::isfinite(r.*error)) continue;
     if (!closest || r.*error < closest->*error) closest = &r;
-    if (r.*error <= tolerance && (!best || cheaper(r, *best))) best = &r;
+    if (r.*error <= tolerance && (!best || before(r, *best, error))) best = &r;
   }
   rec.found = best != nullptr;
   if (best)
     rec.row = *best;
   else if (closest)
     rec.row = *closest;
-  if (scope == "overall" && best) rec.engine = best->engine;
   return rec;
 }
 
-/// Per engine (in order), then overall.
+/// Per engine (in order), then overall: the cheapest of the engines' choices, by counted
+/// work when they are all the custom engine's, otherwise by wall time per simulated second
+/// (the one cost Bullet and the custom engine share), then by error and engine order.
 std::vector<Recommendation> recommend_all(const std::vector<AccuracyRow>& rows,
                                           const std::vector<std::string>& engines, double tolerance,
                                           double AccuracyRow::*error) {
   std::vector<Recommendation> out;
-  std::vector<size_t> all;
   for (const std::string& e : engines) {
     std::vector<size_t> mine;
     for (size_t i = 0; i < rows.size(); ++i)
       if (rows[i].engine == e) mine.push_back(i);
-    all.insert(all.end(), mine.begin(), mine.end());
-    out.push_back(recommend(rows, mine, tolerance, error, "engine", e));
+    out.push_back(recommend(rows, mine, tolerance, error, e));
   }
-  out.push_back(recommend(rows, all, tolerance, error, "overall", ""));
+  Recommendation overall;
+  overall.scope = "overall";
+  const bool all_counted = std::all_of(out.begin(), out.end(), [](const Recommendation& r) {
+    return !r.found || !r.row.integrator.empty();
+  });
+  const auto key = [&](const AccuracyRow& r) {
+    return all_counted ? counted_work(r) : r.wall_s_per_sim_s;
+  };
+  const Recommendation* best = nullptr;
+  for (const Recommendation& r : out) {
+    if (!r.found) continue;
+    if (!best || key(r.row) < key(best->row) ||
+        (key(r.row) == key(best->row) && r.row.*error < best->row.*error))
+      best = &r;
+  }
+  if (best) {
+    overall.found = true;
+    overall.engine = best->engine;
+    overall.row = best->row;
+  } else {
+    // nothing meets the tolerance: the most accurate stable row of all, as per engine
+    for (const Recommendation& r : out)
+      if (!r.row.engine.empty() &&
+          (overall.row.engine.empty() || r.row.*error < overall.row.*error))
+        overall.row = r.row;
+  }
+  out.push_back(overall);
   return out;
-}
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return "";
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 /// The rows of an earlier reference.csv, by study (empty when there is none).
@@ -658,7 +693,8 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
       } else {
         f.insert(f.end(),
                  {format_double(c.spec.dt), run.stable ? "1" : "0", optional_double(error_final),
-                  format_double(per_sim_s), std::to_string(run.counters.force_evals), c.rerun});
+                  format_double(per_sim_s), std::to_string(run.counters.force_evals),
+                  std::to_string(run.counters.cg_iterations), c.rerun});
       }
       table_of(c).append(f);
     }
@@ -717,14 +753,14 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
     report.recommendations =
         recommend_all(report.rows, engine_names, o.tolerance, &AccuracyRow::error_max);
     CsvWriter w(dir + "recommendation.csv", {"scope", "engine", "integrator", "dt", "error_max",
-                                             "wall_s_per_sim_s", "tolerance"});
+                                             "wall_s_per_sim_s", "tolerance", "cost"});
     for (const Recommendation& r : report.recommendations) {
       w.add(r.scope).add(r.engine);
       if (r.found)
         w.add(r.row.integrator).add(r.row.dt).add(r.row.error_max).add(r.row.wall_s_per_sim_s);
       else
         w.skip().skip().skip().skip();
-      w.add(o.tolerance).end_row();
+      w.add(o.tolerance).add(optional_double(r.found ? counted_work(r.row) : kNaN)).end_row();
     }
     w.commit();
     report.files.push_back(dir + "recommendation.csv");
@@ -733,7 +769,7 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
                                                         o.tolerance, &AccuracyRow::error_final);
       CsvWriter rw(dir + "resolution_recommendation.csv",
                    {"scope", "engine", "integrator", "particles", "dt", "error_final",
-                    "wall_s_per_sim_s", "tolerance"});
+                    "wall_s_per_sim_s", "tolerance", "cost"});
       for (const Recommendation& r : report.resolution_recommendations) {
         rw.add(r.scope).add(r.engine);
         if (r.found)
@@ -744,7 +780,7 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
               .add(r.row.wall_s_per_sim_s);
         else
           rw.skip().skip().skip().skip().skip();
-        rw.add(o.tolerance).end_row();
+        rw.add(o.tolerance).add(optional_double(r.found ? counted_work(r.row) : kNaN)).end_row();
       }
       rw.commit();
       report.files.push_back(dir + "resolution_recommendation.csv");
@@ -769,8 +805,11 @@ std::string config_name(const AccuracyRow& r) {
 void summarise_recommendations(std::ostringstream& s, const std::vector<Recommendation>& recs,
                                double tolerance, const char* error_name, bool grid) {
   char buf[400];
-  std::snprintf(buf, sizeof buf, "\ncheapest %s within %s <= %s m:\n",
-                grid ? "grid" : "configuration", error_name, short_double(tolerance).c_str());
+  std::snprintf(buf, sizeof buf,
+                "\ncheapest %s within %s <= %s m (by counted work, force evaluations + %g x CG "
+                "iterations; see --help):\n",
+                grid ? "grid" : "configuration", error_name, short_double(tolerance).c_str(),
+                kCgIterationCost);
   s << buf;
   for (const Recommendation& r : recs) {
     const bool overall = r.scope == "overall";
@@ -782,7 +821,10 @@ void summarise_recommendations(std::ostringstream& s, const std::vector<Recommen
     std::string line;
     if (r.found)
       line = what + ": " + error_name + " " + short_double(err) + " m, " +
-             short_double(r.row.wall_s_per_sim_s) + " s per simulated s";
+             short_double(r.row.wall_s_per_sim_s) + " s per simulated s" +
+             (r.row.integrator.empty()
+                  ? std::string()
+                  : ", " + short_double(counted_work(r.row)) + " particle force evaluations");
     else if (!r.row.engine.empty())
       line = "nothing meets the tolerance (most accurate: " + what + ", " + error_name + " " +
              short_double(err) + " m)";

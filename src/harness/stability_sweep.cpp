@@ -1,35 +1,119 @@
 #include "harness/stability_sweep.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <fstream>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "cloth/linear_stability.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/engine_factory.hpp"
 #include "harness/progress.hpp"
 #include "harness/runner.hpp"
+#include "harness/scenario_loader.hpp"
 
 namespace clothbench {
 
 namespace {
 
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+/// Halvings of the engine's own dt tried before a configuration is declared never stable:
+/// each doubles the cost of a run, so ten already cost 2^11 runs at the engine's dt.
+constexpr int kMaxHalvings = 10;
+
 const std::vector<std::string> kHeader = {"engine",       "integrator",
                                           "stable_dt",    "first_unstable_dt",
                                           "predicted_dt", "ratio_measured_to_predicted",
                                           "cause",        "runs",
-                                          "rerun"};
+                                          "rerun",        "rerun_unstable"};
+
+const char* kSidecar = "stability_scenario.toml";
 
 std::string field(double v) {
-  return std::isnan(v) ? std::string() : format_double(v);
+  return std::isfinite(v) ? format_double(v) : std::string();
+}
+
+double number_or(const std::string& f, double otherwise) {
+  return f.empty() ? otherwise : std::stod(f);
+}
+
+/// True when big is a whole multiple (>= 1) of small, up to round-off (as the loader checks).
+bool whole_multiple(double big, double small) {
+  const double r = big / small;
+  const double n = std::round(r);
+  return n >= 1 && std::abs(r - n) <= 1e-9 * r;
+}
+
+/// What stability_scenario.toml holds: the options that change a row, then the scenario.
+std::string sidecar_text(const Scenario& sc, const StabilityOptions& o) {
+  return "# the stability sweep whose rows stability.csv holds; --resume continues it only\n"
+         "# with this scenario and these options:\n"
+         "#   --dt-max " +
+         format_double(o.dt_max) + " --rel-tol " + format_double(o.rel_tol) + "\n" +
+         scenario_to_toml(sc);
+}
+
+/// Throws unless the folder's earlier sweep ran this scenario with these options.
+void check_resumable(const std::string& dir, const Scenario& sc, const StabilityOptions& o) {
+  const std::string csv = dir + "stability.csv", sidecar = dir + kSidecar;
+  const std::string earlier = read_text(sidecar);
+  const std::string now = sidecar_text(sc, o);
+  if (earlier.empty()) {
+    if (!read_text(csv).empty())
+      throw std::runtime_error(csv + ": cannot resume: there is no " + kSidecar +
+                               " beside it to say which scenario and options its rows come "
+                               "from; run without --resume or choose another output folder");
+    return;
+  }
+  if (earlier == now) return;
+  // say which part differs: the comment lines hold the options, the rest the scenario
+  const auto split = [](const std::string& text) {
+    size_t at = 0;
+    while (at < text.size() && text[at] == '#') {
+      const size_t end = text.find('\n', at);
+      at = end == std::string::npos ? text.size() : end + 1;
+    }
+    const size_t o = text.find("--dt-max");
+    const std::string options =
+        o < at ? text.substr(o, text.find('\n', o) - o) : std::string("(none recorded)");
+    return std::make_pair(options, text.substr(at));
+  };
+  const auto [earlier_options, earlier_scenario] = split(earlier);
+  const auto [options, scenario] = split(now);
+  const std::string what =
+      earlier_scenario != scenario
+          ? "another scenario (or other --set overrides or --engine choices)"
+          : "other options (" + earlier_options + " then, " + options + " now)";
+  throw std::runtime_error(sidecar + ": cannot resume: the folder holds a stability sweep of " +
+                           what + "; run without --resume or choose another output folder");
 }
 
 }  // namespace
 
+double stability_horizon(const Scenario& sc) {
+  // run_engine logs llround(duration / frame_interval) frames
+  const long long frames = std::max(1LL, std::llround(sc.duration / sc.frame_interval));
+  const double whole = double(frames) * sc.frame_interval;
+  return std::abs(whole - sc.duration) <= 1e-9 * sc.duration ? sc.duration : whole;
+}
+
+std::string stability_rerun(const Scenario& sc, const EngineSpec& e) {
+  const double horizon = stability_horizon(sc);
+  std::string s = rerun_overrides(e) + " --set frame_interval=" + format_double(horizon);
+  if (horizon != sc.duration) s += " --set duration=" + format_double(horizon);
+  if (sc.snapshot_interval > 0 && !whole_multiple(sc.snapshot_interval, horizon))
+    s += " --set snapshot_interval=0";
+  return s;
+}
+
 bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause) {
-  // one frame at the end: the blow-up check runs every step regardless
+  // one frame over the horizon: the blow-up check runs every step regardless
   Scenario s = sc;
-  s.frame_interval = s.duration;
+  s.duration = s.frame_interval = stability_horizon(sc);
   s.snapshot_interval = 0;
   const cloth::Model model = cloth::build_model(s.scene);
   const EngineRun run = run_engine(s, e, model, nullptr, false);
@@ -39,6 +123,9 @@ bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause) {
 }
 
 std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptions& o) {
+  if (o.out_dir.empty()) throw std::invalid_argument("stability: no output folder given");
+  if (!(o.dt_max > 0)) throw std::invalid_argument("--dt-max: expected a time step > 0");
+  if (!(o.rel_tol > 0)) throw std::invalid_argument("--rel-tol: expected a number > 0");
   // the configurations: engine x integrator
   struct Config {
     EngineSpec engine;
@@ -70,8 +157,23 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
   if (configs.empty()) throw std::invalid_argument("nothing to sweep: no engine matches");
   for (const Config& c : configs) make_engine(c.engine, sc.scene);  // refuse bad scenes early
 
+  // the folder: an earlier sweep is only resumed when it ran the same scenario and options
   make_directories(o.out_dir);
-  SweepTable table(o.out_dir + "/stability.csv", kHeader, 2, o.resume);
+  const std::string dir = o.out_dir + "/";
+  if (o.resume) check_resumable(dir, sc, o);
+  {
+    AtomicFile f(dir + kSidecar);
+    f.write(sidecar_text(sc, o));
+    f.commit();
+  }
+  SweepTable table(dir + "stability.csv", kHeader, 2, o.resume);
+
+  // the step grid: horizon / n for whole n, no larger than dt_max
+  const double horizon = stability_horizon(sc);
+  const long long n_min =
+      std::max(1LL, static_cast<long long>(std::ceil(horizon / o.dt_max * (1 - 1e-12))));
+  const auto dt_of = [&](long long n) { return horizon / double(n); };
+
   const cloth::LinearSpectrum spectrum = cloth::linear_spectrum(cloth::build_model(sc.scene));
   Progress progress(double(configs.size()), "searches", o.progress);
   std::vector<StabilityRow> rows(configs.size());
@@ -86,73 +188,105 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
     const std::string key = row.engine + "," + row.integrator;
     if (table.done(key)) {
       const auto f = table.row(key);
-      row.stable_dt = std::stod(f[2]);
-      row.first_unstable_dt =
-          f[3].empty() ? std::numeric_limits<double>::infinity() : std::stod(f[3]);
-      row.predicted_dt = f[4].empty() ? NAN : std::stod(f[4]);
+      row.stable_dt = number_or(f[2], kNaN);
+      row.first_unstable_dt = number_or(f[3], kInf);
+      row.predicted_dt = number_or(f[4], kNaN);
+      row.ratio = number_or(f[5], kNaN);
       row.cause = f[6];
       row.runs = std::stoi(f[7]);
       row.rerun = f[8];
+      row.rerun_unstable = f[9];
+      row.resumed = true;
       rows[static_cast<size_t>(index)] = row;
       progress.advance(1, key + " (resumed)");
       return;
     }
     std::string cause;
-    auto stable = [&](double dt) {
+    const auto spec = [&](long long n) {
+      return with_integrator_and_dt(c.engine, c.integrator, dt_of(n));
+    };
+    const auto stable = [&](long long n) {
       ++row.runs;
       if (interrupt_requested()) throw Interrupted();
-      return stable_run(sc, with_integrator_and_dt(c.engine, c.integrator, dt), &cause);
+      return stable_run(sc, spec(n), &cause);
     };
-    // bracket: [lo stable, hi unstable]
-    double lo = c.engine.dt, hi = std::numeric_limits<double>::infinity();
-    std::string hi_cause;
-    if (!stable(lo)) {
-      hi = lo;
-      hi_cause = cause;
-      for (int k = 0; k < 20 && !stable(lo /= 2); ++k) {
-        hi = lo;
-        hi_cause = cause;
-      }
-    } else {
-      while (lo < o.dt_max) {
-        const double next = std::min(2 * lo, o.dt_max);
+    // bracket on the step grid: n_stable steps stable, n_unstable (< n_stable) unstable;
+    // 0 where none was found
+    long long n_stable = 0, n_unstable = 0;
+    std::string unstable_cause;
+    const long long n_engine = std::max(1LL, std::llround(horizon / c.engine.dt));
+    const long long n0 = std::max(n_min, n_engine);
+    if (stable(n0)) {
+      // double dt (halve n) until a run fails or dt_max is reached
+      n_stable = n0;
+      while (n_stable > n_min) {
+        const long long next = std::max(n_min, (n_stable + 1) / 2);
         if (!stable(next)) {
-          hi = next;
-          hi_cause = cause;
+          n_unstable = next;
+          unstable_cause = cause;
           break;
         }
-        lo = next;
+        n_stable = next;
       }
-    }
-    // bisect on a log scale
-    while (std::isfinite(hi) && hi / lo - 1.0 > o.rel_tol) {
-      const double mid = std::sqrt(lo * hi);
-      if (stable(mid)) {
-        lo = mid;
-      } else {
-        hi = mid;
-        hi_cause = cause;
-      }
-    }
-    row.stable_dt = lo;
-    row.first_unstable_dt = hi;
-    if (c.engine.kind == "custom") {
-      const double p = cloth::predicted_stable_dt(c.engine.solver.integrator, spectrum);
-      row.predicted_dt = p;
-      const std::string mode = cloth::limiting_mode(c.engine.solver.integrator, spectrum);
-      row.cause = std::isfinite(hi) ? hi_cause + "; limiting mode " + mode : "stable up to dt_max";
-      if (!spectrum.exact)
-        row.cause += " (damping not proportional to stiffness: modal damping approximated)";
     } else {
-      row.predicted_dt = NAN;
-      row.cause = std::isfinite(hi) ? hi_cause : "stable up to dt_max";
+      n_unstable = n0;
+      unstable_cause = cause;
+      for (int k = 0; k < kMaxHalvings; ++k) {
+        if (stable(2 * n_unstable)) {
+          n_stable = 2 * n_unstable;
+          break;
+        }
+        n_unstable *= 2;
+        unstable_cause = cause;
+      }
     }
-    row.rerun = rerun_overrides(with_integrator_and_dt(c.engine, c.integrator, lo));
-    const double ratio = std::isfinite(row.predicted_dt) ? row.stable_dt / row.predicted_dt : NAN;
-    table.append({row.engine, row.integrator, format_double(row.stable_dt),
-                  std::isfinite(hi) ? format_double(hi) : std::string(), field(row.predicted_dt),
-                  std::isfinite(ratio) ? format_double(ratio) : std::string(), row.cause,
-                  std::to_string(row.runs), row.rerun});
+    // bisect on a log scale, down to neighbours on the grid
+    while (n_stable > 0 && n_unstable > 0 && n_stable - n_unstable > 1 &&
+           double(n_stable) / double(n_unstable) - 1.0 > o.rel_tol) {
+      const long long mid =
+          std::clamp<long long>(std::llround(std::sqrt(double(n_stable) * double(n_unstable))),
+                                n_unstable + 1, n_stable - 1);
+      if (stable(mid)) {
+        n_stable = mid;
+      } else {
+        n_unstable = mid;
+        unstable_cause = cause;
+      }
+    }
+    if (n_stable > 0) row.stable_dt = dt_of(n_stable);
+    if (n_unstable > 0) row.first_unstable_dt = dt_of(n_unstable);
+    if (n_stable > 0) row.rerun = stability_rerun(sc, spec(n_stable));
+    if (n_unstable > 0) row.rerun_unstable = stability_rerun(sc, spec(n_unstable));
+
+    // the cause: what failed, or why nothing did
+    std::string limiting;
+    if (c.engine.kind == "custom") {
+      row.predicted_dt = cloth::predicted_stable_dt(c.engine.solver.integrator, spectrum);
+      limiting = "limiting mode " +
+                 cloth::limiting_mode(c.engine.solver.integrator, spectrum, row.predicted_dt);
+    }
+    if (n_stable == 0) {
+      row.cause = unstable_cause + " at every dt tried down to " +
+                  format_double(row.first_unstable_dt) + " s (the engine's dt / 2^" +
+                  std::to_string(kMaxHalvings) + "): no stable dt found";
+    } else if (n_unstable == 0) {
+      row.cause = "no failure up to --dt-max = " + format_double(o.dt_max) +
+                  " s: stable_dt is a lower bound of the limit";
+    } else {
+      row.cause = unstable_cause;
+    }
+    if (!limiting.empty()) row.cause += "; " + limiting;
+    if (n_engine < n_min)
+      row.cause += "; the engine's dt " + format_double(c.engine.dt) +
+                   " s is above --dt-max: the search started at " + format_double(dt_of(n0)) + " s";
+    if (c.engine.kind == "custom" && !spectrum.exact) row.cause += " (" + spectrum.method + ")";
+    // a ratio only between two limits: a bound or a missing measurement gives none
+    if (n_stable > 0 && n_unstable > 0 && std::isfinite(row.predicted_dt))
+      row.ratio = row.stable_dt / row.predicted_dt;
+
+    table.append({row.engine, row.integrator, field(row.stable_dt), field(row.first_unstable_dt),
+                  field(row.predicted_dt), field(row.ratio), row.cause, std::to_string(row.runs),
+                  row.rerun, row.rerun_unstable});
     rows[static_cast<size_t>(index)] = row;
     progress.advance(1, key);
   });

@@ -41,6 +41,14 @@ void run_parallel(int n, int jobs, const std::function<void(int)>& work) {
   if (first_error) std::rethrow_exception(first_error);
 }
 
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return "";
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
 std::vector<std::string> split_csv_line(const std::string& line) {
   // RFC 4180 quoting: a field in double quotes may hold commas and doubled quotes
   std::vector<std::string> out;

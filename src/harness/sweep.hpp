@@ -63,6 +63,9 @@ EngineSpec with_integrator_and_dt(const EngineSpec& e, const std::string& integr
 /// The --set overrides that make `clothbench run` repeat a sweep row on the scenario file.
 std::string rerun_overrides(const EngineSpec& e);
 
+/// The whole text of the file at path ("" when it cannot be read).
+std::string read_text(const std::string& path);
+
 /// Splits a CSV line; a field in double quotes may hold commas ("" is a quote).
 std::vector<std::string> split_csv_line(const std::string& line);
 

@@ -168,13 +168,15 @@ TEST_CASE("accuracy sweep: the recommendation is the cheapest row within the tol
   o.tolerance = 1e-4;  // m: met by some configurations and not by others
   const AccuracyReport report = run_accuracy(sc, o);
 
-  // the cheapest qualifying row, found from the file alone
+  // the cheapest qualifying row, found from the file alone: counted work (the grid is the
+  // same for every row), then error, then file order; wall time plays no part
   const Csv wp = read_csv(dir.path / "work_precision.csv");
   const std::vector<std::string>* best = nullptr;
   int qualifying = 0;
   const auto cost = [&](const std::vector<std::string>& r) {
-    return std::make_pair(std::stod(r[wp.col("wall_s_per_sim_s")]),
-                          std::stoll(r[wp.col("force_evals")]));
+    return std::make_pair(double(std::stoll(r[wp.col("force_evals")])) +
+                              kCgIterationCost * double(std::stoll(r[wp.col("cg_iterations")])),
+                          std::stod(r[wp.col("error_max")]));
   };
   for (const auto& r : wp.rows) {
     if (r[wp.col("stable")] != "1" || r[wp.col("error_max")].empty()) continue;
@@ -188,7 +190,7 @@ TEST_CASE("accuracy sweep: the recommendation is the cheapest row within the tol
 
   const Csv rec = read_csv(dir.path / "recommendation.csv");
   CHECK(rec.header == std::vector<std::string>{"scope", "engine", "integrator", "dt", "error_max",
-                                               "wall_s_per_sim_s", "tolerance"});
+                                               "wall_s_per_sim_s", "tolerance", "cost"});
   REQUIRE(rec.rows.size() == 2);  // the one engine, then overall
   for (const auto& r : rec.rows) {
     INFO(r[rec.col("scope")]);
@@ -197,6 +199,7 @@ TEST_CASE("accuracy sweep: the recommendation is the cheapest row within the tol
     CHECK(r[rec.col("dt")] == (*best)[wp.col("dt")]);
     CHECK(r[rec.col("error_max")] == (*best)[wp.col("error_max")]);
     CHECK(std::stod(r[rec.col("tolerance")]) == o.tolerance);
+    CHECK(std::stod(r[rec.col("cost")]) == Approx(cost(*best).first * 25));  // 5 x 5 particles
   }
   REQUIRE(report.recommendations.size() == 2);
   CHECK(report.recommendations[1].scope == "overall");
@@ -222,6 +225,7 @@ TEST_CASE("accuracy sweep: the result does not depend on the number of jobs", "[
   TempDir one("jobs1"), two("jobs2");
   const Scenario sc = parse_scenario(kSwing, "swing.toml");
   AccuracyOptions o = quick_options(one.str());
+  o.tolerance = 1e-4;  // m
   o.jobs = 1;
   run_accuracy(sc, o);
   o.out_dir = two.str();
@@ -230,6 +234,17 @@ TEST_CASE("accuracy sweep: the result does not depend on the number of jobs", "[
   CHECK(without_wall_time(read_csv(one.path / "work_precision.csv")) ==
         without_wall_time(read_csv(two.path / "work_precision.csv")));
   CHECK(read_csv(one.path / "convergence.csv").rows == read_csv(two.path / "convergence.csv").rows);
+  // the recommendation is counted, not timed: the same row whatever ran beside it
+  const auto chosen = [](const Csv& rec) {
+    std::vector<std::vector<std::string>> out;
+    for (auto row : rec.rows) {
+      row.erase(row.begin() + static_cast<std::ptrdiff_t>(rec.col("wall_s_per_sim_s")));
+      out.push_back(row);
+    }
+    return out;
+  };
+  CHECK(chosen(read_csv(one.path / "recommendation.csv")) ==
+        chosen(read_csv(two.path / "recommendation.csv")));
 }
 
 TEST_CASE("accuracy sweep: identical engines run once", "[sweep]") {
@@ -322,20 +337,24 @@ TEST_CASE("accuracy sweep: the resolution error falls toward the finest grid", "
   const Csv csv = read_csv(dir.path / "resolution.csv");
   CHECK(csv.header == std::vector<std::string>{"engine", "integrator", "particles", "dt", "stable",
                                                "error_final", "wall_s_per_sim_s", "force_evals",
-                                               "rerun"});
+                                               "cg_iterations", "rerun"});
   REQUIRE(csv.rows.size() == 4);
   CHECK(csv.rows[0][csv.col("rerun")] ==
         "--set cloth.particles=[3,3] --set cloth.total_mass=2.5 --set "
         "engine.custom.integrator=rk4 --set engine.custom.dt=0.001");
-  // the cheapest grid within 5 cm, found from the file alone
+  // the cheapest grid within 5 cm, found from the file alone: force evaluations (and CG
+  // iterations) times particles, the work of a step growing with the grid
   const Csv rec = read_csv(dir.path / "resolution_recommendation.csv");
   REQUIRE(rec.rows.size() == 2);
   const std::vector<std::string>* best = nullptr;
+  const auto work = [&](const std::vector<std::string>& r) {
+    return (double(std::stoll(r[csv.col("force_evals")])) +
+            kCgIterationCost * double(std::stoll(r[csv.col("cg_iterations")]))) *
+           std::stod(r[csv.col("particles")]);
+  };
   for (const auto& r : csv.rows) {
     if (r[csv.col("stable")] != "1" || std::stod(r[csv.col("error_final")]) > o.tolerance) continue;
-    if (!best ||
-        std::stod(r[csv.col("wall_s_per_sim_s")]) < std::stod((*best)[csv.col("wall_s_per_sim_s")]))
-      best = &r;
+    if (!best || work(r) < work(*best)) best = &r;
   }
   REQUIRE(best);
   CHECK(rec.rows[1][rec.col("particles")] == (*best)[csv.col("particles")]);
