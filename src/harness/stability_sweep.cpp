@@ -77,9 +77,9 @@ void check_resumable(const std::string& dir, const Scenario& sc, const Stability
       const size_t end = text.find('\n', at);
       at = end == std::string::npos ? text.size() : end + 1;
     }
-    const size_t o = text.find("--dt-max");
-    const std::string options =
-        o < at ? text.substr(o, text.find('\n', o) - o) : std::string("(none recorded)");
+    const size_t from = text.find("--dt-max");
+    const std::string options = from < at ? text.substr(from, text.find('\n', from) - from)
+                                          : std::string("(none recorded)");
     return std::make_pair(options, text.substr(at));
   };
   const auto [earlier_options, earlier_scenario] = split(earlier);
