@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "cloth/sphere_collision.hpp"
 #include "cloth/spring_forces.hpp"
 
 namespace clothbench::reference {
@@ -35,7 +36,7 @@ void check_bullet_scene(const cloth::Scene& scene, const std::string& kind) {
 }
 
 btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model,
-                            const LinkMaterial& material) {
+                            const cloth::Matrix3X& start, const LinkMaterial& material) {
   const int n = model.particle_count();
   // nodes in our order; a particle held on all axes is a pin: mass 0, which Bullet never moves
   std::vector<btVector3> x(static_cast<size_t>(n));
@@ -60,7 +61,20 @@ btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model
       body->appendFace(p, p + model.nu + 1, p + model.nu);
     }
   }
+  // the start state, once the rest lengths are taken from the rest positions
+  for (int p = 0; p < n; ++p) {
+    btSoftBody::Node& node = body->m_nodes[p];
+    node.m_x = node.m_q = to_bt(start.col(p));
+  }
+  body->updateBounds();
   return body;
+}
+
+cloth::Matrix3X start_positions(const cloth::Model& model, const cloth::Scene& scene) {
+  cloth::Matrix3X x = model.x0;
+  cloth::Matrix3X v = cloth::Matrix3X::Zero(3, x.cols());
+  cloth::resolve_sphere_contacts(scene.spheres, 0.0, x, v, model.mass, model.free);
+  return x;
 }
 
 double sdf_voxel_size(const std::vector<cloth::Sphere>& spheres) {
@@ -133,7 +147,7 @@ void SphereBodies::move_to(double t) {
 
 BulletCloth::BulletCloth(const cloth::Scene& scene) : m_model(cloth::build_model(scene)) {
   const int n = m_model.particle_count();
-  m_x = m_model.x0;
+  m_x = start_positions(m_model, scene);
   m_v = cloth::Matrix3X::Zero(3, n);
   for (int p = 0; p < n; ++p)
     for (int a = 0; a < 3; ++a)

@@ -37,12 +37,22 @@ using LinkMaterial =
 
 /// A soft body with our particles as nodes (same order; pinned particles, all axes held, get
 /// mass 0), our springs as links (same order, rest lengths from the same rest positions, bend
-/// links flagged m_bbending) and two triangles per grid cell as faces. The caller adds it to
-/// a world and owns it.
+/// links flagged m_bbending) and two triangles per grid cell as faces, its nodes then placed
+/// at start. The caller adds it to a world and owns it.
 /// @param info      the world's soft-body info (gravity, sparse SDF)
+/// @param start     3 by #P node positions at t = 0 (m): start_positions()
 /// @param material  material of each link
 btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model,
-                            const LinkMaterial& material);
+                            const cloth::Matrix3X& start, const LinkMaterial& material);
+
+/// 3 by #P positions (m) a Bullet cloth starts from: the rest positions with every particle
+/// that starts inside a sphere's contact shell (radius + margin) moved onto it along its free
+/// axes, by the custom engine's own contact projection (cloth::resolve_sphere_contacts, which
+/// the custom engine applies after its first step). Bullet would turn the overlap into
+/// velocity: the classic soft body's contact (kKHR = 1) removes it in one step, so the seed
+/// scene's pole node left at 10 m/s (50 J), and the deformable world's explicit scheme turns
+/// its split impulses into a velocity that depends on round-off (see bullet_deformable.hpp).
+cloth::Matrix3X start_positions(const cloth::Model& model, const cloth::Scene& scene);
 
 /// Sparse-SDF voxel size (m) fine enough that the interpolated sphere surface is within
 /// radius / 3200 of the true one (trilinear error ~ voxel^2 / (8 radius)).
@@ -103,6 +113,7 @@ void set_contact_config(btSoftBody& body, const cloth::Scene& scene);
 class BulletCloth : public cloth::Simulator {
  public:
   void step(double dt) override;
+  /// At t = 0: start_positions(), not the rest positions, when a particle starts in contact.
   const cloth::Matrix3X& positions() const override { return m_x; }
   const cloth::Matrix3X& velocities() const override { return m_v; }
   double time() const override { return m_t; }
