@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "cloth/energies.hpp"
 #include "cloth/sphere_collision.hpp"
 #include "cloth/spring_forces.hpp"
 
@@ -145,13 +146,15 @@ void SphereBodies::move_to(double t) {
   }
 }
 
-BulletCloth::BulletCloth(const cloth::Scene& scene) : m_model(cloth::build_model(scene)) {
+BulletCloth::BulletCloth(const cloth::Scene& scene, Dissipation book)
+    : m_model(cloth::build_model(scene)), m_book(book) {
   const int n = m_model.particle_count();
   m_x = start_positions(m_model, scene);
   m_v = cloth::Matrix3X::Zero(3, n);
   for (int p = 0; p < n; ++p)
     for (int a = 0; a < 3; ++a)
       if (m_model.free(a, p) == 0.0) m_holds.push_back({p, a, m_model.x0(a, p)});
+  m_energy = cloth::compute_energies(m_model, m_x, m_v).total();
 }
 
 void BulletCloth::step(double dt) {
@@ -166,9 +169,17 @@ void BulletCloth::step(double dt) {
       m_v(a, p) = nodes[p].m_v[a];
     }
   }
-  // the damping power of the new state (springs and drag), as the custom implicit engine books it
-  m_dissipated +=
-      dt * (cloth::damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
+  if (m_book == Dissipation::damper_power) {
+    // the damping power of the new state (springs and drag), as the custom implicit engine
+    // books it
+    m_dissipated += dt * (cloth::damping_power(m_model.springs, m_x, m_v) +
+                          m_model.air_drag * m_v.squaredNorm());
+  } else {
+    // what the step took out, whatever took it
+    const double e = cloth::compute_energies(m_model, m_x, m_v).total();
+    m_dissipated += m_energy - e;
+    m_energy = e;
+  }
   m_t += dt;
   ++m_counters.steps;
 }

@@ -46,7 +46,8 @@ void check_deformable(const BulletOptions& o, const cloth::Scene& scene) {
 /// One cloth in its own deformable world.
 class BulletDeformableCloth final : public BulletCloth {
  public:
-  BulletDeformableCloth(const BulletOptions& o, const cloth::Scene& scene) : BulletCloth(scene) {
+  BulletDeformableCloth(const BulletOptions& o, const cloth::Scene& scene)
+      : BulletCloth(scene, Dissipation::damper_power) {
     // the world, wired the way Bullet's deformable demos wire it
     m_body_solver = std::make_unique<btDeformableBodySolver>();
     m_constraint_solver = std::make_unique<btDeformableMultiBodyConstraintSolver>();

@@ -45,7 +45,7 @@ void check_softbody(const BulletOptions& o, double dt, const cloth::Scene& scene
 class BulletSoftBodyCloth final : public BulletCloth {
  public:
   BulletSoftBodyCloth(const BulletOptions& o, double dt, const cloth::Scene& scene)
-      : BulletCloth(scene), m_options(o), m_dt(dt) {
+      : BulletCloth(scene, Dissipation::energy_balance), m_options(o), m_dt(dt) {
     // the world; it creates and owns its default soft-body solver
     m_world = std::make_unique<btSoftRigidDynamicsWorld>(
         m_parts.dispatcher.get(), m_parts.broadphase.get(), &m_constraint_solver,

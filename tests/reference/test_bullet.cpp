@@ -39,7 +39,7 @@ constexpr double kSingleLinkRelative = 0.02;
 constexpr double kChainRelative = 0.05;
 /// Round-off, relative to the energies compared: double-precision sums over a few hundred
 /// particles stay far below it (measured: the implicit mode's first-step kinetic energy equals
-/// free fall's to the last digit printed).
+/// free fall's to the last digit printed, and the soft body's energy balance closes to 0 J).
 constexpr double kRoundoffRelative = 1e-9;
 /// Two runs whose inputs differ by round-off: measured at most 1.8e-14 m after 0.5 s on the
 /// seed scene; the start-up kick this guards against moved the pole node by 9.3 cm.
@@ -414,6 +414,26 @@ TEST_CASE("bullet-deformable on the seed scene does not hang on round-off", "[bu
   const double rms = rms_distance(*ea, *eb, dt, 0.5);
   INFO((implicit ? "implicit" : "explicit") << ": RMS distance " << rms << " m");
   CHECK(rms < kRoundoffDistance);
+}
+
+TEST_CASE("bullet-softbody books what each step takes out as dissipated", "[bullet]") {
+  // The classic soft body has no damper; its projection, contacts and drag dissipate. Booked
+  // as the energy balance of each step, E + dissipated stays E_0 to round-off, and the
+  // projection does take energy out.
+  const Scene s = GENERATE(flag_scene(), seed_scene());
+  const Model m = build_model(s);
+  auto e = bullet(s, "bullet-softbody", 1e-3);
+  const double e0 = compute_energies(m, e->positions(), e->velocities()).total();
+  double worst = 0.0;
+  for (int i = 0; i < 1000; ++i) {
+    e->step(1e-3);
+    const double total = compute_energies(m, e->positions(), e->velocities()).total();
+    worst = std::max(worst, std::abs(total + e->dissipated() - e0));
+  }
+  INFO("dissipated " << e->dissipated() << " J of E_0 = " << e0 << " J; largest |E + D - E_0| "
+                     << worst << " J");
+  CHECK(worst < kRoundoffRelative * std::abs(e0));
+  CHECK(e->dissipated() > 0.0);
 }
 
 TEST_CASE("Bullet engines refuse what they cannot model", "[bullet]") {
