@@ -138,8 +138,10 @@ int cmd_check(std::vector<std::string> paths, const CheckOptions& o) {
                               : "baselines recorded; what changed:\n" + format_gates(all));
     return kOk;
   }
-  std::cout << format_gates(all) << all.size() - failed << " gates passed, " << failed
-            << " failed\n";
+  const long ungated =
+      std::count_if(all.begin(), all.end(), [](const Gate& g) { return !g.gated; });
+  std::cout << format_gates(all) << long(all.size()) - failed - ungated << " gates passed, "
+            << failed << " failed, " << ungated << " not gated\n";
   return failed > 0 ? 1 : kOk;
 }
 

@@ -39,6 +39,11 @@ struct Tolerances {
   std::string stability_engine;
   std::vector<std::string> stability_integrators;
   double stability_rel_tol = 0.02;
+  bool stability_adjacent = false;  // brackets that only share an end pass too
+  // [ungated.<engine>]: quantities not gated for that engine, with the reason
+  std::map<std::string, std::map<std::string, std::string>> ungated;
+  // [mirror]: engines whose final shape is compared up to the scene's mirror image
+  std::set<std::string> mirrored;
 };
 
 // the quantities of metrics.csv, in the order they are gated
@@ -105,9 +110,20 @@ Tolerances read_tolerances(const fs::path& p) {
     k.push_back("final_shape_rms");
     return k;
   }();
+  auto strings = [&](toml::node_view<const toml::node> node, const std::string& where) {
+    std::vector<std::string> out;
+    const toml::array* a = node.as_array();
+    if (!a) throw std::runtime_error(p.string() + ": " + where + ": expected an array of strings");
+    for (const auto& v : *a) {
+      if (!v.is_string())
+        throw std::runtime_error(p.string() + ": " + where + ": expected an array of strings");
+      out.push_back(v.value_or(std::string()));
+    }
+    return out;
+  };
   for (const auto& [key, node] : root) {
     const std::string name(key.str());
-    if (name == "stability") continue;
+    if (name == "stability" || name == "ungated" || name == "mirror") continue;
     if (std::find(known.begin(), known.end(), name) == known.end())
       throw std::runtime_error(p.string() + ": unknown quantity \"" + name + "\"");
     const toml::table* tab = node.as_table();
@@ -124,10 +140,48 @@ Tolerances read_tolerances(const fs::path& p) {
     t.stability = true;
     t.stability_engine = (*s)["engine"].value_or(std::string());
     t.stability_rel_tol = (*s)["rel_tol"].value_or(0.02);
+    t.stability_adjacent = (*s)["adjacent"].value_or(false);
     if (const toml::array* a = (*s)["integrators"].as_array())
       for (const auto& v : *a) t.stability_integrators.push_back(v.value_or(std::string()));
   }
+  if (const toml::table* u = root["ungated"].as_table()) {
+    for (const auto& [engine_key, node] : *u) {
+      const std::string engine(engine_key.str()), where = "ungated." + engine;
+      const toml::table* e = node.as_table();
+      if (!e)
+        throw std::runtime_error(p.string() + ": " + where +
+                                 ": expected { quantities = [...], reason = \"...\" }");
+      const std::string reason = (*e)["reason"].value_or(std::string());
+      if (reason.empty()) throw std::runtime_error(p.string() + ": " + where + ": no reason");
+      for (const std::string& q : strings((*e)["quantities"], where + ".quantities")) {
+        if (std::find(known.begin(), known.end(), q) == known.end())
+          throw std::runtime_error(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
+        t.ungated[engine][q] = reason;
+      }
+    }
+  }
+  if (const toml::table* m = root["mirror"].as_table())
+    for (const std::string& e : strings((*m)["engines"], "mirror.engines")) t.mirrored.insert(e);
   return t;
+}
+
+// throws, naming the file, when tolerances name an engine the scenario does not have or ask
+// for a mirror image of a grid one particle wide
+void check_tolerance_engines(const Tolerances& t, const Scenario& sc, const fs::path& p) {
+  auto has = [&](const std::string& name) {
+    return std::any_of(sc.engines.begin(), sc.engines.end(),
+                       [&](const EngineSpec& e) { return e.name == name; });
+  };
+  for (const auto& [engine, q] : t.ungated)
+    if (!has(engine))
+      throw std::runtime_error(p.string() + ": [ungated." + engine + "] names an engine " +
+                               sc.name + " does not have");
+  for (const std::string& engine : t.mirrored)
+    if (!has(engine))
+      throw std::runtime_error(p.string() + ": [mirror] names engine " + engine + ", which " +
+                               sc.name + " does not have");
+  if (!t.mirrored.empty() && sc.scene.cloth.nu < 2)
+    throw std::runtime_error(p.string() + ": [mirror] needs a grid at least 2 particles wide");
 }
 
 // why a quantity is not gated for engines of a kind (empty: it is gated)
@@ -205,6 +259,21 @@ Brackets brackets_of(const std::vector<StabilityRow>& rows) {
   for (const StabilityRow& r : rows)
     b[r.engine + "/" + r.integrator] = {r.stable_dt, r.first_unstable_dt};
   return b;
+}
+
+// the scene's left-right mirror image of a 3 by #P shape: reflected across the plane through
+// the cloth's rest centre normal to its grid's u axis, particle (i, j) taking the place of
+// (nu - 1 - i, j)
+cloth::Matrix3X mirror_image(const cloth::Matrix3X& x, const cloth::Model& m) {
+  const cloth::Vector3 c = m.x0.rowwise().mean();
+  const cloth::Vector3 u = (m.x0.col(1) - m.x0.col(0)).normalized();
+  cloth::Matrix3X y(3, x.cols());
+  for (int j = 0; j < m.nv; ++j)
+    for (int i = 0; i < m.nu; ++i) {
+      const cloth::Vector3 q = x.col(j * m.nu + (m.nu - 1 - i));
+      y.col(j * m.nu + i) = q - 2.0 * (q - c).dot(u) * u;
+    }
+  return y;
 }
 
 // RMS over particles of the distance between two shapes (m)
@@ -364,6 +433,7 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
     throw std::runtime_error("no baseline for scenario " + sc.name + ": " + tol_path.string() +
                              " is missing (record one with clothbench check --update)");
   const Tolerances tol = read_tolerances(tol_path);
+  check_tolerance_engines(tol, sc, tol_path);
 
   RunOptions ro;
   ro.progress = o.progress;
@@ -444,9 +514,12 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
         continue;
       }
       const double b = it->second, v = now.at(q);
-      const std::string why = ungated_reason(spec.kind, q);
+      const auto listed = tol.ungated.find(spec.name);
+      const std::string why = listed != tol.ungated.end() && listed->second.count(q)
+                                  ? "not gated: " + listed->second.at(q)
+                                  : ungated_reason(spec.kind, q);
       if (!why.empty()) {
-        gates.push_back({sc.name, spec.name, q, b, v, std::abs(v - b), NAN, true, why, "-"});
+        gates.push_back({sc.name, spec.name, q, b, v, std::abs(v - b), NAN, true, why, "-", false});
         continue;
       }
       gate(spec.name, q, b, v, tol.quantity.at(q).allowed(b), std::abs(v - b));
@@ -460,9 +533,24 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
       fail(run.spec.name, "final_shape_rms", NAN, NAN, "no shape in the baseline");
       continue;
     }
-    const double rms = shape_rms(run.snapshots.back(), it->second);
+    const auto listed = tol.ungated.find(run.spec.name);
+    if (listed != tol.ungated.end() && listed->second.count("final_shape_rms")) {
+      const double rms = shape_rms(run.snapshots.back(), it->second);
+      gates.push_back({sc.name, run.spec.name, "final_shape_rms", 0.0, rms, rms, NAN, true,
+                       "not gated: " + listed->second.at("final_shape_rms"), "-", false});
+      continue;
+    }
+    double rms = shape_rms(run.snapshots.back(), it->second);
+    bool mirrored = false;
+    if (tol.mirrored.count(run.spec.name)) {
+      // the engine may pick either side of the scene's symmetry: the nearer image counts
+      const double m = shape_rms(run.snapshots.back(), mirror_image(it->second, result.model));
+      mirrored = m < rms;
+      rms = std::min(rms, m);
+    }
     gate(run.spec.name, "final_shape_rms", 0.0, rms,
          tol.quantity.at("final_shape_rms").allowed(0.0), rms);
+    if (mirrored && gates.back().pass) gates.back().note = "to the mirror image";
   }
   // stability limits: the recorded search found the limit in [stable_dt, first_unstable_dt);
   // the same search now must bracket a limit that can be the same one, so the two half-open
@@ -488,8 +576,12 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
                                format_double(n.first_unstable_dt) + ") misses [" +
                                format_double(b.stable_dt) + ", " +
                                format_double(b.first_unstable_dt) + ")";
-      // both ends fail together: the two brackets cannot hold the same limit
-      const bool overlap = n.stable_dt < b.first_unstable_dt && b.stable_dt < n.first_unstable_dt;
+      // both ends fail together: the two brackets cannot hold the same limit (with adjacent,
+      // brackets that share an end may: the run at that dt turned the other way)
+      const bool overlap =
+          tol.stability_adjacent
+              ? n.stable_dt <= b.first_unstable_dt && b.stable_dt <= n.first_unstable_dt
+              : n.stable_dt < b.first_unstable_dt && b.stable_dt < n.first_unstable_dt;
       gates.push_back({sc.name, key, "stable_dt", b.stable_dt, n.stable_dt,
                        std::abs(n.stable_dt - b.stable_dt), NAN, overlap, overlap ? "" : miss,
                        "< " + format_double(b.first_unstable_dt)});

@@ -42,6 +42,7 @@ struct Gate {
   bool pass = true;
   std::string note;          // why it failed, why it is not gated, or what changed (--update)
   std::string allowed_text;  // shown instead of allowed when set (stability brackets)
+  bool gated = true;         // false: shown for the record, with the reason in note
 };
 
 /// Checks (or with update, records) one scenario file against its baseline folder.

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -49,6 +50,23 @@ std::string chain_tolerances(const std::vector<std::string>& searched) {
   t += "[stability]\nengine = \"custom-rk4\"\nrel_tol = 0.02\nintegrators = [";
   for (size_t i = 0; i < searched.size(); ++i) t += (i ? ", \"" : "\"") + searched[i] + "\"";
   return t + "]\n";
+}
+
+/// A 3 x 3 sheet hanging from one top corner for 0.2 s: it swings to one side, so its shape and
+/// its mirror image differ.
+std::string sheet_scenario() {
+  return "name = \"tiny_chain\"\n"
+         "duration = 0.2\nframe_interval = 0.01\nsnapshot_interval = 0.1\n"
+         "blowup_strain = 1.0\nreference = \"custom-rk4\"\ngravity = [0.0, -9.8, 0.0]\n"
+         "[cloth]\nparticles = [3, 3]\nsize = [0.4, 0.4]\ncenter = [0.0, 1.0, 0.0]\n"
+         "plane = \"xy\"\nparticle_mass = 0.1\n"
+         "stiffness = { structural = 200.0, shear = 200.0, bend = 20.0 }\n"
+         "damping = 0.5\nair_drag = 0.0\n"
+         "[[constraint]]\nselect = \"indices\"\nhold = \"xyz\"\nlist = [[0, 2]]\n"
+         "[[engine]]\nname = \"custom-rk4\"\nkind = \"custom\"\nintegrator = \"rk4\"\n"
+         "dt = 1e-4\n"
+         "[[engine]]\nname = \"custom-symplectic-euler\"\nkind = \"custom\"\n"
+         "integrator = \"symplectic-euler\"\ndt = 1e-4\n";
 }
 
 void write(const fs::path& p, const std::string& text) {
@@ -119,6 +137,38 @@ std::vector<Gate> failures(const std::vector<Gate>& gates) {
   for (const Gate& g : gates)
     if (!g.pass) f.push_back(g);
   return f;
+}
+
+/// Rewrites the rows of one engine in a shape.csv: f(i, j, x, y, z) gives the new row.
+void rewrite_shape(const fs::path& p, const std::string& engine,
+                   const std::function<std::vector<double>(const std::vector<double>&)>& f) {
+  std::istringstream in(read(p));
+  std::string line, out;
+  std::getline(in, line);
+  out = line + "\n";
+  while (std::getline(in, line)) {
+    const auto fields = clothbench::split_csv_line(line);
+    if (fields[0] != engine) {
+      out += line + "\n";
+      continue;
+    }
+    std::vector<double> row;
+    for (size_t k = 1; k < fields.size(); ++k) row.push_back(std::stod(fields[k]));
+    const std::vector<double> r = f(row);
+    out += engine + "," + std::to_string(int(r[0])) + "," + std::to_string(int(r[1]));
+    for (int k = 2; k < 5; ++k) out += "," + clothbench::format_double(r[size_t(k)]);
+    out += "\n";
+  }
+  write(p, out);
+}
+
+/// The gate of one engine and quantity.
+Gate find_gate(const std::vector<Gate>& gates, const std::string& engine,
+               const std::string& quantity) {
+  for (const Gate& g : gates)
+    if (g.engine == engine && g.quantity == quantity) return g;
+  FAIL("no gate for " << engine << " " << quantity);
+  return Gate{};
 }
 
 /// Sets an environment variable for the life of the object.
@@ -319,4 +369,107 @@ TEST_CASE("the stability gate wants the recorded bracket, not a neighbouring one
     record(std::sqrt(lo * hi), hi * std::sqrt(hi / lo));
     CHECK(stability_failures() == 0);
   }
+}
+
+TEST_CASE("the stability gate lets brackets that share an end pass when told to", "[regression]") {
+  // On the flag, the run at one bisection dt turns either way between builds: adjacent = true
+  const Workspace w;
+  std::string tol = chain_tolerances({"symplectic-euler"});
+  tol.insert(tol.find("rel_tol"), "adjacent = true\n");
+  write(w.chain / "tolerances.toml", tol);
+  const std::string sc = w.scenario("tiny_chain.toml", 1000, {"rk4", "symplectic-euler"});
+  check_scenario(sc, w.update());
+  const fs::path table = w.chain / "stability.csv";
+  std::istringstream in(read(table));
+  std::string header, row;
+  std::getline(in, header);
+  std::getline(in, row);
+  const auto f = clothbench::split_csv_line(row);
+  const double lo = std::stod(f[2]), hi = std::stod(f[3]);
+  auto failing = [&](double a, double b) {
+    write(table, "engine,integrator,stable_dt,first_unstable_dt\ncustom-rk4,symplectic-euler," +
+                     clothbench::format_double(a) + "," + clothbench::format_double(b) + "\n");
+    return failures(check_scenario(sc, w.options())).size();
+  };
+  CHECK(failing(hi, hi * hi / lo) == 0);                  // shares hi
+  CHECK(failing(lo * lo / hi, lo) == 0);                  // shares lo
+  CHECK(failing(hi * 1.001, hi * hi / lo * 1.001) == 2);  // a gap, however small
+}
+
+TEST_CASE("check shows an ungated quantity with its reason and still gates the rest",
+          "[regression]") {
+  const Workspace w;
+  write(w.chain / "tolerances.toml",
+        chain_tolerances({}) +
+            "[ungated.custom-symplectic-euler]\nquantities = [\"final_com_y\"]\n"
+            "reason = \"a reason measured for this test\"\n");
+  const std::string sc = w.scenario("tiny_chain.toml", 1000, {"rk4", "symplectic-euler"});
+  check_scenario(sc, w.update());
+  // both engines' final_com_y recorded 1 m off
+  std::string metrics = read(w.chain / "metrics.csv"), moved;
+  std::istringstream in(metrics);
+  std::string line;
+  while (std::getline(in, line)) {
+    const auto fields = clothbench::split_csv_line(line);
+    if (fields.size() == 3 && fields[1] == "final_com_y")
+      line = fields[0] + ",final_com_y," + clothbench::format_double(std::stod(fields[2]) + 1.0);
+    moved += line + "\n";
+  }
+  write(w.chain / "metrics.csv", moved);
+  const std::vector<Gate> gates = check_scenario(sc, w.options());
+  const Gate ungated = find_gate(gates, "custom-symplectic-euler", "final_com_y");
+  CHECK(ungated.pass);
+  CHECK_FALSE(ungated.gated);
+  CHECK_THAT(ungated.note, Catch::Contains("a reason measured for this test"));
+  CHECK_FALSE(find_gate(gates, "custom-rk4", "final_com_y").pass);
+  CHECK(failures(gates).size() == 1);
+}
+
+TEST_CASE("tolerances that name an engine the scenario lacks are refused", "[regression]") {
+  const Workspace w;
+  const std::string sc = w.scenario("tiny_chain.toml", 1000, {"rk4", "symplectic-euler"});
+  SECTION("ungated") {
+    write(w.chain / "tolerances.toml",
+          chain_tolerances({}) +
+              "[ungated.custom-midpoint]\nquantities = [\"final_com_y\"]\n"
+              "reason = \"no such engine\"\n");
+    CHECK_THROWS_WITH(check_scenario(sc, w.update()), Catch::Contains("custom-midpoint"));
+  }
+  SECTION("mirror") {
+    write(w.chain / "tolerances.toml",
+          chain_tolerances({}) + "[mirror]\nengines = [\"custom-midpoint\"]\n");
+    CHECK_THROWS_WITH(check_scenario(sc, w.update()), Catch::Contains("custom-midpoint"));
+  }
+}
+
+TEST_CASE("a [mirror] engine's shape passes as the recorded one or its mirror image, no other",
+          "[regression]") {
+  const Workspace w;
+  const fs::path sc = w.root / "sheet.toml";
+  write(sc, sheet_scenario());
+  const std::string engine = "custom-symplectic-euler";
+  write(w.chain / "tolerances.toml", chain_tolerances({}));
+  check_scenario(sc.string(), w.update());
+  // record the mirror image instead: x -> -x across the cloth's centre plane, i -> 2 - i
+  rewrite_shape(w.chain / "shape.csv", engine, [](const std::vector<double>& r) {
+    return std::vector<double>{2 - r[0], r[1], -r[2], r[3], r[4]};
+  });
+  auto shape_gate = [&] {
+    return find_gate(check_scenario(sc.string(), w.options()), engine, "final_shape_rms");
+  };
+  const Gate plain = shape_gate();
+  INFO("the sheet's shape is " << plain.now << " m from its mirror image");
+  CHECK_FALSE(plain.pass);
+
+  write(w.chain / "tolerances.toml",
+        chain_tolerances({}) + "[mirror]\nengines = [\"" + engine + "\"]\n");
+  const Gate mirrored = shape_gate();
+  CHECK(mirrored.pass);
+  CHECK(mirrored.note == "to the mirror image");
+
+  // a shape that is neither: the mirror image 1 mm lower
+  rewrite_shape(w.chain / "shape.csv", engine, [](const std::vector<double>& r) {
+    return std::vector<double>{r[0], r[1], r[2], r[3] - 1e-3, r[4]};
+  });
+  CHECK_FALSE(shape_gate().pass);
 }
