@@ -326,7 +326,7 @@ std::vector<Gate> changes(const std::string& scenario, const Metrics& old_metric
   auto change = [&](const std::string& engine, const std::string& quantity, double before,
                     double after, const std::string& note) {
     const double d = std::isinf(before) && before == after ? 0.0 : std::abs(after - before);
-    gates.push_back({scenario, engine, quantity, before, after, d, 0, true, note, ""});
+    gates.push_back({scenario, engine, quantity, before, after, d, NAN, true, note, "-"});
   };
   auto same = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };
   // metrics, and engines that are no longer run
@@ -470,8 +470,8 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
     std::vector<Gate> gates =
         changes(sc.name, old_metrics, old_shapes, old_brackets, result, now_brackets);
     if (!grid_changed.empty())
-      gates.push_back({sc.name, "", "final_shape_rms", NAN, NAN, NAN, 0, true,
-                       "previous shapes not comparable: " + grid_changed, ""});
+      gates.push_back({sc.name, "", "final_shape_rms", NAN, NAN, NAN, NAN, true,
+                       "previous shapes not comparable: " + grid_changed, "-"});
     return gates;
   }
 
