@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <stdexcept>
 
+#include "cloth/energies.hpp"
+#include "cloth/sphere_collision.hpp"
 #include "cloth/spring_forces.hpp"
 
 namespace clothbench::reference {
@@ -35,7 +37,7 @@ void check_bullet_scene(const cloth::Scene& scene, const std::string& kind) {
 }
 
 btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model,
-                            const LinkMaterial& material) {
+                            const cloth::Matrix3X& start, const LinkMaterial& material) {
   const int n = model.particle_count();
   // nodes in our order; a particle held on all axes is a pin: mass 0, which Bullet never moves
   std::vector<btVector3> x(static_cast<size_t>(n));
@@ -60,7 +62,20 @@ btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model
       body->appendFace(p, p + model.nu + 1, p + model.nu);
     }
   }
+  // the start state, once the rest lengths are taken from the rest positions
+  for (int p = 0; p < n; ++p) {
+    btSoftBody::Node& node = body->m_nodes[p];
+    node.m_x = node.m_q = to_bt(start.col(p));
+  }
+  body->updateBounds();
   return body;
+}
+
+cloth::Matrix3X start_positions(const cloth::Model& model, const cloth::Scene& scene) {
+  cloth::Matrix3X x = model.x0;
+  cloth::Matrix3X v = cloth::Matrix3X::Zero(3, x.cols());
+  cloth::resolve_sphere_contacts(scene.spheres, 0.0, x, v, model.mass, model.free);
+  return x;
 }
 
 double sdf_voxel_size(const std::vector<cloth::Sphere>& spheres) {
@@ -131,13 +146,15 @@ void SphereBodies::move_to(double t) {
   }
 }
 
-BulletCloth::BulletCloth(const cloth::Scene& scene) : m_model(cloth::build_model(scene)) {
+BulletCloth::BulletCloth(const cloth::Scene& scene, Dissipation book)
+    : m_model(cloth::build_model(scene)), m_book(book) {
   const int n = m_model.particle_count();
-  m_x = m_model.x0;
+  m_x = start_positions(m_model, scene);
   m_v = cloth::Matrix3X::Zero(3, n);
   for (int p = 0; p < n; ++p)
     for (int a = 0; a < 3; ++a)
       if (m_model.free(a, p) == 0.0) m_holds.push_back({p, a, m_model.x0(a, p)});
+  m_energy = cloth::compute_energies(m_model, m_x, m_v).total();
 }
 
 void BulletCloth::step(double dt) {
@@ -152,9 +169,17 @@ void BulletCloth::step(double dt) {
       m_v(a, p) = nodes[p].m_v[a];
     }
   }
-  // the damping power of the new state (springs and drag), as the custom implicit engine books it
-  m_dissipated +=
-      dt * (cloth::damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
+  if (m_book == Dissipation::damper_power) {
+    // the damping power of the new state (springs and drag), as the custom implicit engine
+    // books it
+    m_dissipated += dt * (cloth::damping_power(m_model.springs, m_x, m_v) +
+                          m_model.air_drag * m_v.squaredNorm());
+  } else {
+    // what the step took out, whatever took it
+    const double e = cloth::compute_energies(m_model, m_x, m_v).total();
+    m_dissipated += m_energy - e;
+    m_energy = e;
+  }
   m_t += dt;
   ++m_counters.steps;
 }

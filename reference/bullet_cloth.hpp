@@ -37,12 +37,22 @@ using LinkMaterial =
 
 /// A soft body with our particles as nodes (same order; pinned particles, all axes held, get
 /// mass 0), our springs as links (same order, rest lengths from the same rest positions, bend
-/// links flagged m_bbending) and two triangles per grid cell as faces. The caller adds it to
-/// a world and owns it.
+/// links flagged m_bbending) and two triangles per grid cell as faces, its nodes then placed
+/// at start. The caller adds it to a world and owns it.
 /// @param info      the world's soft-body info (gravity, sparse SDF)
+/// @param start     3 by #P node positions at t = 0 (m): start_positions()
 /// @param material  material of each link
 btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model,
-                            const LinkMaterial& material);
+                            const cloth::Matrix3X& start, const LinkMaterial& material);
+
+/// 3 by #P positions (m) a Bullet cloth starts from: the rest positions with every particle
+/// that starts inside a sphere's contact shell (radius + margin) moved onto it along its free
+/// axes, by the custom engine's own contact projection (cloth::resolve_sphere_contacts, which
+/// the custom engine applies after its first step). Bullet would turn the overlap into
+/// velocity: the classic soft body's contact (kKHR = 1) removes it in one step, so the seed
+/// scene's pole node left at 10 m/s (50 J), and the deformable world's explicit scheme turns
+/// its split impulses into a velocity that depends on round-off (see bullet_deformable.hpp).
+cloth::Matrix3X start_positions(const cloth::Model& model, const cloth::Scene& scene);
 
 /// Sparse-SDF voxel size (m) fine enough that the interpolated sphere surface is within
 /// radius / 3200 of the true one (trilinear error ~ voxel^2 / (8 radius)).
@@ -96,6 +106,18 @@ void step_world(btDiscreteDynamicsWorld& world, btSoftBodyWorldInfo& info, Spher
 /// (kDF = 1), the scene's margin, never put to sleep.
 void set_contact_config(btSoftBody& body, const cloth::Scene& scene);
 
+/// How a Bullet engine books dissipated().
+enum class Dissipation {
+  /// h times the spring-axis damping power plus the air-drag power of the new state, as the
+  /// custom implicit engine books it; contact losses are not in it (Bullet does not report
+  /// them), so they show up in energy_error
+  damper_power,
+  /// the energy the step removed, E(before) - E(after) with our energies of the state: for an
+  /// engine without a damper (the classic soft body, whose projection dissipates), so this
+  /// books projection, contact and drag losses alike and its energy_error is 0 by construction
+  energy_balance
+};
+
 /// The Simulator side of a Bullet engine: our model, the state copied from the nodes after
 /// every step, dissipation and counters kept like the custom engine's. What Bullet's soft
 /// bodies lack is added after every Bullet step (operator splitting, first order in dt like
@@ -103,14 +125,16 @@ void set_contact_config(btSoftBody& body, const cloth::Scene& scene);
 class BulletCloth : public cloth::Simulator {
  public:
   void step(double dt) override;
+  /// At t = 0: start_positions(), not the rest positions, when a particle starts in contact.
   const cloth::Matrix3X& positions() const override { return m_x; }
   const cloth::Matrix3X& velocities() const override { return m_v; }
   double time() const override { return m_t; }
+  /// Energy taken out since the start (J), booked as the Dissipation given to the constructor.
   double dissipated() const override { return m_dissipated; }
   cloth::Counters counters() const override { return m_counters; }
 
  protected:
-  explicit BulletCloth(const cloth::Scene& scene);
+  BulletCloth(const cloth::Scene& scene, Dissipation book);
 
   /// Advances the Bullet world by one step of dt seconds.
   virtual void advance(double dt) = 0;
@@ -134,6 +158,8 @@ class BulletCloth : public cloth::Simulator {
   std::vector<Hold> m_holds;
   cloth::Matrix3X m_x, m_v;
   double m_t = 0;
+  Dissipation m_book;
+  double m_energy = 0;  // J, our total energy of the current state (energy_balance)
   double m_dissipated = 0;
   cloth::Counters m_counters;
 };

@@ -46,7 +46,8 @@ void check_deformable(const BulletOptions& o, const cloth::Scene& scene) {
 /// One cloth in its own deformable world.
 class BulletDeformableCloth final : public BulletCloth {
  public:
-  BulletDeformableCloth(const BulletOptions& o, const cloth::Scene& scene) : BulletCloth(scene) {
+  BulletDeformableCloth(const BulletOptions& o, const cloth::Scene& scene)
+      : BulletCloth(scene, Dissipation::damper_power) {
     // the world, wired the way Bullet's deformable demos wire it
     m_body_solver = std::make_unique<btDeformableBodySolver>();
     m_constraint_solver = std::make_unique<btDeformableMultiBodyConstraintSolver>();
@@ -60,7 +61,7 @@ class BulletDeformableCloth final : public BulletCloth {
     set_up_world(*m_world, m_world->getWorldInfo(), scene);
 
     // the cloth: our nodes and links; the force, not the material, holds the stiffness
-    m_body = build_soft_body(m_world->getWorldInfo(), m_model,
+    m_body = build_soft_body(m_world->getWorldInfo(), m_model, positions(),
                              [](btSoftBody&, const cloth::SpringLink&) { return nullptr; });
     // nodes against rigid bodies, as ours: SDF_RD alone collides nothing, SDF_RDN adds nodes
     m_body->m_cfg.collisions = btSoftBody::fCollision::SDF_RD | btSoftBody::fCollision::SDF_RDN;

@@ -45,7 +45,7 @@ void check_softbody(const BulletOptions& o, double dt, const cloth::Scene& scene
 class BulletSoftBodyCloth final : public BulletCloth {
  public:
   BulletSoftBodyCloth(const BulletOptions& o, double dt, const cloth::Scene& scene)
-      : BulletCloth(scene), m_options(o), m_dt(dt) {
+      : BulletCloth(scene, Dissipation::energy_balance), m_options(o), m_dt(dt) {
     // the world; it creates and owns its default soft-body solver
     m_world = std::make_unique<btSoftRigidDynamicsWorld>(
         m_parts.dispatcher.get(), m_parts.broadphase.get(), &m_constraint_solver,
@@ -56,14 +56,15 @@ class BulletSoftBodyCloth final : public BulletCloth {
     // can give every link the kLST of its own isolated link
     const cloth::VectorX im = m_model.inv_mass;
     btSoftBodyWorldInfo& info = m_world->getWorldInfo();
-    m_body = build_soft_body(info, m_model, [&](btSoftBody& body, const cloth::SpringLink& s) {
-      const bool pin_a = m_model.free.col(s.a).isZero(), pin_b = m_model.free.col(s.b).isZero();
-      const double w = (pin_a ? 0.0 : im[s.a]) + (pin_b ? 0.0 : im[s.b]);
-      const std::pair<double, double> key(s.stiffness, w);
-      auto it = m_materials.find(key);
-      if (it == m_materials.end()) it = m_materials.emplace(key, body.appendMaterial()).first;
-      return it->second;
-    });
+    m_body = build_soft_body(
+        info, m_model, positions(), [&](btSoftBody& body, const cloth::SpringLink& s) {
+          const bool pin_a = m_model.free.col(s.a).isZero(), pin_b = m_model.free.col(s.b).isZero();
+          const double w = (pin_a ? 0.0 : im[s.a]) + (pin_b ? 0.0 : im[s.b]);
+          const std::pair<double, double> key(s.stiffness, w);
+          auto it = m_materials.find(key);
+          if (it == m_materials.end()) it = m_materials.emplace(key, body.appendMaterial()).first;
+          return it->second;
+        });
     set_link_stiffness(m_dt);
     btSoftBody::Config& cfg = m_body->m_cfg;
     cfg.piterations = o.iterations;

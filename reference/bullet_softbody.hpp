@@ -18,9 +18,11 @@ namespace clothbench::reference {
 /// of squared lengths stiffens it by about half the strain), a hanging chain of 10 links
 /// within +0.6% (bottom) to -3.7% (top link), the links' Gauss-Seidel coupling, which the
 /// isolated-link formula ignores. The scene's spring damping has no counterpart here (kDP = 0: the
-/// projection itself dissipates); dissipated() still books the spring-axis damping power of the
-/// state so the CSV columns mean the same for every engine. Throws std::invalid_argument naming the
-/// feature for bad options and what check_bullet_scene refuses.
+/// projection itself dissipates), so dissipated() books the energy balance of every step
+/// (Dissipation::energy_balance): what the projection, the contacts and the air drag took out.
+/// Its energy_error is therefore 0 by construction and not a measure of anything. Throws
+/// std::invalid_argument naming the feature for bad options and what check_bullet_scene
+/// refuses.
 /// @param dt  the step the engine will be run with (s), for "matched"
 std::unique_ptr<cloth::Simulator> make_bullet_softbody(const BulletOptions& options, double dt,
                                                        const cloth::Scene& scene);

@@ -138,8 +138,10 @@ int cmd_check(std::vector<std::string> paths, const CheckOptions& o) {
                               : "baselines recorded; what changed:\n" + format_gates(all));
     return kOk;
   }
-  std::cout << format_gates(all) << all.size() - failed << " gates passed, " << failed
-            << " failed\n";
+  const long ungated =
+      std::count_if(all.begin(), all.end(), [](const Gate& g) { return !g.gated; });
+  std::cout << format_gates(all) << long(all.size()) - failed - ungated << " gates passed, "
+            << failed << " failed, " << ungated << " not gated\n";
   return failed > 0 ? 1 : kOk;
 }
 
@@ -315,7 +317,11 @@ int main(int argc, char** argv) {
                    "baseline folder (one subfolder per scenario)")
       ->capture_default_str();
   check->add_flag("--update", chk.update,
-                  "record the current results as the baseline and print what changed");
+                  "record the current results as the baseline and print what changed "
+                  "(metrics, final shape RMS per engine, stability limits)");
+  check->add_flag("--record-perturbed", chk.record_perturbed,
+                  "let --update record a baseline with --set overrides applied (refused "
+                  "without this flag)");
   check->add_option("--set,-s", overrides, "override a scenario key in every scenario (repeatable)")
       ->allow_extra_args(false);
   check->add_option("--jobs,-j", chk.jobs, "threads for the stability searches")

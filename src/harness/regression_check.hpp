@@ -9,6 +9,9 @@
 ///   shape.csv        engine,i,j,x,y,z: the final shape of every engine
 ///   stability.csv    engine,integrator,stable_dt,first_unstable_dt (when tolerances.toml
 ///                    has a [stability] table)
+///
+/// Every engine and stability row on either side is gated: one recorded in the baseline that
+/// did not run now fails, and so does one that ran without a baseline.
 
 #include <string>
 #include <vector>
@@ -22,6 +25,7 @@ struct CheckOptions {
   std::string baseline_dir;            // folder holding one subfolder per scenario
   std::vector<std::string> overrides;  // --set overrides applied to every scenario
   bool update = false;                 // record new baselines instead of comparing
+  bool record_perturbed = false;       // with update and overrides: record them anyway
   bool progress = true;
   int jobs = 1;  // threads for the stability searches
 };
@@ -30,21 +34,41 @@ struct CheckOptions {
 struct Gate {
   std::string scenario;
   std::string engine;    // engine name, or engine/integrator for stability limits
-  std::string quantity;  // final_shape_rms, max_energy_error, stable, force_evals, ...
+  std::string quantity;  // final_shape_rms, max_energy_error, stable_dt, engine, ...
   double baseline = 0;
   double now = 0;
   double difference = 0;  // |now - baseline| (final_shape_rms: the distance itself)
   double allowed = 0;     // largest difference that passes
   bool pass = true;
-  std::string note;  // why it failed, or what changed (--update)
+  std::string note;          // why it failed, why it is not gated, or what changed (--update)
+  std::string allowed_text;  // shown instead of allowed when set (stability brackets)
+  bool gated = true;         // false: shown for the record, with the reason in note
 };
 
 /// Checks (or with update, records) one scenario file against its baseline folder.
-/// Throws ScenarioError for a bad scenario and std::runtime_error for a missing or malformed
-/// baseline (naming the file).
+/// Throws std::invalid_argument for update with overrides unless record_perturbed is set (a
+/// perturbed baseline recorded by accident would hide the very change it should catch),
+/// ScenarioError for a bad scenario and std::runtime_error for a missing or malformed baseline
+/// (naming the file).
 std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOptions& o);
 
 /// The gate table as printed by `clothbench check` (one line per gate, aligned columns).
 std::string format_gates(const std::vector<Gate>& gates);
+
+/// A new, empty folder of its own under the system's temporary folder (TMPDIR), removed with
+/// everything in it when the object goes, also when an exception passes: concurrent checks
+/// of the same scenario (ctest -j) never share or delete each other's files.
+class ScratchFolder {
+ public:
+  /// Creates <temporary folder>/<prefix>XXXXXX; throws std::runtime_error naming it on failure.
+  explicit ScratchFolder(const std::string& prefix);
+  ~ScratchFolder();
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  const std::string& path() const { return m_path; }
+
+ private:
+  std::string m_path;
+};
 
 }  // namespace clothbench
