@@ -1,4 +1,3 @@
-#include <unistd.h>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <filesystem>
@@ -9,6 +8,7 @@
 #include "cloth/integrator.hpp"
 #include "harness/accuracy_sweep.hpp"
 #include "harness/scenario_loader.hpp"
+#include "temp_dir.hpp"
 #include "tolerances.hpp"
 
 using namespace clothbench;
@@ -47,16 +47,8 @@ const std::vector<std::string> kFlap = {"name=flap", "duration=0.5", "cloth.tota
                                         "constraint.0={ select = \"edge:v0\", hold = \"xyz\" }",
                                         "engine.custom.dt=1e-3"};
 
-/// A fresh folder under the system's temporary folder, removed at the end of the test.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() /
-             ("clothbench-accuracy-" + name + "-" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string str() const { return path.string(); }
+struct TempDir : clothbench::test::TempDir {
+  explicit TempDir(const std::string& name) : clothbench::test::TempDir("accuracy-" + name) {}
 };
 
 struct Csv {

@@ -8,6 +8,7 @@
 #include "harness/csv_writer.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
+#include "temp_dir.hpp"
 
 using namespace clothbench;
 namespace fs = std::filesystem;
@@ -99,12 +100,6 @@ std::string slurp(const fs::path& p) {
   return ss.str();
 }
 
-fs::path fresh_dir(const std::string& name) {
-  const fs::path d = fs::temp_directory_path() / ("clothbench-test-" + name);
-  fs::remove_all(d);
-  return d;
-}
-
 RunResult run_small(const std::vector<std::string>& overrides = {}) {
   RunOptions o;
   o.progress = false;
@@ -114,7 +109,8 @@ RunResult run_small(const std::vector<std::string>& overrides = {}) {
 }  // namespace
 
 TEST_CASE("an end-to-end run writes every column with consistent values", "[scenario][runner]") {
-  const fs::path dir = fresh_dir("e2e");
+  const clothbench::test::TempDir scratch("runner-e2e");
+  const fs::path& dir = scratch.path;
   write_run(run_small(), dir.string());
 
   const Csv frames = read_csv(dir / "frames.csv");
@@ -225,7 +221,8 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
 }
 
 TEST_CASE("two runs give byte-identical CSVs apart from timing columns", "[runner]") {
-  const fs::path a = fresh_dir("det-a"), b = fresh_dir("det-b");
+  const clothbench::test::TempDir scratch_a("runner-det-a"), scratch_b("runner-det-b");
+  const fs::path &a = scratch_a.path, &b = scratch_b.path;
   write_run(run_small(), a.string());
   write_run(run_small(), b.string());
   for (const char* f : {"frames.csv", "divergence.csv", "snapshots.csv", "scenario.toml"})
@@ -257,7 +254,8 @@ TEST_CASE("bad input and interruption leave no output behind", "[runner][scenari
 }
 
 TEST_CASE("a CSV appears only when committed, and an abandoned one leaves nothing", "[runner]") {
-  const fs::path dir = fresh_dir("atomic");
+  const clothbench::test::TempDir scratch("runner-atomic");
+  const fs::path& dir = scratch.path;
   fs::create_directories(dir);
   const fs::path target = dir / "table.csv";
   {

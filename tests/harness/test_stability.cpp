@@ -1,4 +1,3 @@
-#include <unistd.h>
 #include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -11,6 +10,7 @@
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
 #include "harness/stability_sweep.hpp"
+#include "temp_dir.hpp"
 #include "tolerances.hpp"
 
 using namespace clothbench;
@@ -47,16 +47,8 @@ integrator = "symplectic-euler"
 dt = 2e-3
 )";
 
-/// A fresh folder under the system's temporary folder, removed at the end of the test.
-struct TempDir {
-  fs::path path;
-  explicit TempDir(const std::string& name)
-      : path(fs::temp_directory_path() /
-             ("clothbench-stability-" + name + "-" + std::to_string(::getpid()))) {
-    fs::remove_all(path);
-  }
-  ~TempDir() { fs::remove_all(path); }
-  std::string str() const { return path.string(); }
+struct TempDir : clothbench::test::TempDir {
+  explicit TempDir(const std::string& name) : clothbench::test::TempDir("stability-" + name) {}
 };
 
 std::string read_file(const fs::path& p) {
