@@ -98,6 +98,14 @@ class RunFixture(ReportChecks, unittest.TestCase):
         self.assertIn("custom-symplectic vs custom-rk4: RMS distance", text)
         self.assertIn("Drape coefficients:", text)
 
+    def test_no_energy_verdict_for_a_position_based_soft_body(self):
+        # its dissipated column is its energy balance: an error of 0 J would be no finding
+        with open(os.path.join(self.out, "report.html"), encoding="utf-8") as f:
+            text = f.read()
+        self.assertIn("bullet-softbody: no energy check", text)
+        self.assertNotIn("bullet-softbody: energy error at most", text)
+        self.assertIn("custom-rk4: energy error at most", text)
+
 
 class SweepFixture(ReportChecks, unittest.TestCase):
     folders = (os.path.join(rc.FIXTURES, "sweep"),)
