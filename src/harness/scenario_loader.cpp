@@ -22,7 +22,7 @@ namespace clothbench {
 
 ScenarioError::ScenarioError(const std::string& where, const std::string& key,
                              const std::string& problem)
-    : std::runtime_error(where + ": " + (key.empty() ? "" : key + ": ") + problem),
+    : UserError(where + ": " + (key.empty() ? "" : key + ": ") + problem),
       m_where(where),
       m_key(key),
       m_problem(problem) {}

@@ -13,11 +13,12 @@
 #include <vector>
 
 #include "harness/scenario.hpp"
+#include "harness/user_error.hpp"
 
 namespace clothbench {
 
 /// A scenario the user got wrong: bad file, bad key, bad value, bad override.
-class ScenarioError : public std::runtime_error {
+class ScenarioError : public UserError {
  public:
   /// @param where    "file:line", "--set key" or a file name alone (unreadable file)
   /// @param key      dotted key path ("cloth.damping", "engine.custom-rk4.dt"); may be empty
