@@ -90,6 +90,18 @@ class Folder:
         rows = self.table("summary.csv").select(engine=engine)
         return next(rows.rows(), {})
 
+    def energy_gated(self, engine):
+        """(gated, note): whether the engine's energy error measures its time scheme, as the
+        run.json that clothbench wrote says of its kind; (True, "") when it says nothing."""
+        kind = self.engine_info(engine).get("kind", "")
+        facts = self.run_info.get("engine_kinds", {}).get(kind, {})
+        return bool(facts.get("energy_gated", True)), str(facts.get("energy_note", ""))
+
+    def expected_order(self, integrator):
+        """Order of accuracy of a custom integrator as run.json gives it, or None."""
+        order = self.run_info.get("integrators", {}).get(integrator, {}).get("order")
+        return int(order) if isinstance(order, (int, float)) else None
+
     def blowup(self, engine):
         """Blow-up time (s) of an unstable engine, or None when it stayed stable (or unknown)."""
         info = self.engine_info(engine)

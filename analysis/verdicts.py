@@ -8,11 +8,6 @@ import math
 
 import numpy as np
 
-# order of accuracy of the custom engine's integrators (cloth::integrator_order)
-EXPECTED_ORDER = {"explicit-euler": 1, "symplectic-euler": 1, "picard-implicit": 1,
-                  "midpoint": 2, "rk4": 4, "implicit-euler": 1}
-
-
 def num(x, sig=3):
     """A number with 3 significant digits and a short exponent (2e-4)."""
     if isinstance(x, str):
@@ -84,12 +79,11 @@ def run_verdicts(f):
     if f.has("frames.csv"):
         frames = f.table("frames.csv")
         for e in engines:
-            if f.engine_info(e).get("kind") == "bullet-softbody":
-                # no spring damper: its dissipated column is each step's energy balance
-                lines.append(("info", f"{e}: no energy check: a position-based soft body has no "
-                                      "spring damper, so the energy its projection removes is "
-                                      "booked as dissipated and its energy error is 0 by "
-                                      "construction."))
+            gated, note = f.energy_gated(e)
+            if not gated:
+                # run.json says why (for a position-based soft body: no spring damper, its
+                # dissipated column is each step's energy balance)
+                lines.append(("info", f"{e}: no energy check: its energy error is {note}."))
                 continue
             rows = _sorted_rows(frames, e)
             rows = rows.where(rows["stable"] >= 0.5)
@@ -293,8 +287,7 @@ def sweep_verdicts(f):
                 continue
             pts = f" from {int(r['points'])} points" if _finite(r["points"]) else ""
             text = f"{key}: measured order {r['order']:.2f}{pts}"
-            expected = EXPECTED_ORDER.get(r["integrator"]) if r["engine"] != "" and \
-                not str(r["engine"]).startswith("bullet") else None
+            expected = f.expected_order(r["integrator"]) if r["engine"] != "" else None
             kind = "info"
             if expected is not None:
                 ok = abs(r["order"] - expected) <= 0.3

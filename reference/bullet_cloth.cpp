@@ -4,37 +4,50 @@
 #include <stdexcept>
 
 #include "cloth/energies.hpp"
+#include "cloth/number_format.hpp"
 #include "cloth/sphere_collision.hpp"
 #include "cloth/spring_forces.hpp"
 
 namespace clothbench::reference {
 
-void check_bullet_scene(const cloth::Scene& scene, const std::string& kind) {
+std::optional<Refusal> bullet_scene_refusal(const cloth::Scene& scene, const std::string& kind) {
   const std::string who = kind + ": ";
   if (scene.cloth.air_drag < 0.0)
-    throw std::invalid_argument(who + "air drag must not be negative, got " +
-                                std::to_string(scene.cloth.air_drag) + " N s/m");
+    return Refusal{who + "air drag must not be negative, got " + cloth::toml_double(scene.cloth.air_drag) +
+                       " N s/m",
+                   {"cloth.air_drag"},
+                   {}};
   for (size_t i = 0; i < scene.spheres.size(); ++i) {
     const cloth::Sphere& s = scene.spheres[i];
+    const std::string sphere = "sphere." + std::to_string(i);
     if (s.restitution != 0.0)
-      throw std::invalid_argument(who + "sphere " + std::to_string(i) + " has restitution " +
-                                  std::to_string(s.restitution) +
-                                  ", but Bullet's soft-body contacts are inelastic; expected 0");
+      return Refusal{who + "sphere " + std::to_string(i) + " has restitution " +
+                         cloth::toml_double(s.restitution) +
+                         ", but Bullet's soft-body contacts are inelastic; expected 0",
+                     {sphere + ".restitution"},
+                     {}};
     if (s.margin != scene.spheres.front().margin)
-      throw std::invalid_argument(
-          who + "spheres with different margins (" + std::to_string(scene.spheres.front().margin) +
-          " and " + std::to_string(s.margin) + " m): a Bullet soft body has one contact margin");
+      return Refusal{who + "spheres with different margins (" +
+                         cloth::toml_double(scene.spheres.front().margin) + " and " + cloth::toml_double(s.margin) +
+                         " m): a Bullet soft body has one contact margin",
+                     {sphere + ".margin", "sphere.0.margin"},
+                     {}};
     if (!(s.margin > 0.0))
-      throw std::invalid_argument(who + "sphere " + std::to_string(i) +
-                                  " needs a positive contact margin, got " +
-                                  std::to_string(s.margin) + " m");
+      return Refusal{who + "sphere " + std::to_string(i) + " needs a positive contact margin, got " +
+                         cloth::toml_double(s.margin) + " m",
+                     {sphere + ".margin"},
+                     {}};
   }
   for (size_t p = 0; p < scene.held.size(); ++p)
     if (scene.held[p] & ~cloth::kHoldAll)
-      throw std::invalid_argument(who + "particle " + std::to_string(p) +
-                                  " has a held-axis mask with bits other than x, y and z (" +
-                                  std::to_string(int(scene.held[p])) + ")");
+      return Refusal{who + "particle " + std::to_string(p) +
+                         " has a held-axis mask with bits other than x, y and z (" +
+                         std::to_string(int(scene.held[p])) + ")",
+                     {"constraint"},
+                     {}};
+  return std::nullopt;
 }
+
 
 btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model,
                             const cloth::Matrix3X& start, const LinkMaterial& material) {

@@ -11,12 +11,14 @@
 
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "cloth/model.hpp"
 #include "cloth/scene.hpp"
 #include "cloth/simulator.hpp"
+#include "reference/bullet_options.hpp"
 
 namespace clothbench::reference {
 
@@ -25,11 +27,11 @@ inline btVector3 to_bt(const cloth::Vector3& v) {
   return btVector3(v.x(), v.y(), v.z());
 }
 
-/// Throws std::invalid_argument, naming the engine kind and the feature, for what no Bullet
-/// soft body can model the way the scene means it: restitution (Bullet's soft contacts are
-/// inelastic), spheres with different contact margins (one margin per soft body), negative
-/// air drag and held-axis masks with bits other than x, y and z.
-void check_bullet_scene(const cloth::Scene& scene, const std::string& kind);
+/// What no Bullet soft body can model the way the scene means it, naming the engine kind and
+/// the feature: restitution (Bullet's soft contacts are inelastic), spheres with different
+/// contact margins (one margin per soft body), negative air drag and held-axis masks with bits
+/// other than x, y and z; nullopt when there is none of that.
+std::optional<Refusal> bullet_scene_refusal(const cloth::Scene& scene, const std::string& kind);
 
 /// Picks the material of one link (nullptr: the body's default material).
 using LinkMaterial =

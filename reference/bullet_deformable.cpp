@@ -9,6 +9,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "cloth/number_format.hpp"
 #include "reference/bullet_cloth.hpp"
 
 namespace clothbench::reference {
@@ -16,32 +17,6 @@ namespace clothbench::reference {
 namespace {
 
 constexpr const char* kKind = "bullet-deformable";
-
-/// Refuses what this engine cannot model or what Bullet would silently ignore.
-void check_deformable(const BulletOptions& o, const cloth::Scene& scene) {
-  check_bullet_scene(scene, kKind);
-  const cloth::ClothParams& c = scene.cloth;
-  // btDeformableMassSpringForce has one elastic stiffness for every non-bending link
-  // (a grid one particle wide has no shear springs, whatever their stiffness)
-  const bool has_shear = c.k_shear > 0 && c.nu > 1 && c.nv > 1;
-  if (c.k_structural > 0 && has_shear && c.k_structural != c.k_shear)
-    throw std::invalid_argument(
-        std::string(kKind) + ": structural and shear stiffness differ (" +
-        std::to_string(c.k_structural) + " and " + std::to_string(c.k_shear) +
-        " N/m), but Bullet's mass-spring force has one stiffness for both; make them equal");
-  if (o.line_search && !o.implicit)
-    throw std::invalid_argument(std::string(kKind) +
-                                ": line_search only applies to the implicit scheme; set "
-                                "implicit = true or line_search = false");
-  // without projection the constraints become Lagrange multipliers, but Bullet's Newton
-  // loop solves with node-sized vectors while its matrix product writes the multiplier rows
-  // after them (btDeformableBackwardEulerObjective::multiply); the seed scene goes unstable
-  if (o.implicit && !o.projection)
-    throw std::invalid_argument(std::string(kKind) +
-                                ": the implicit scheme needs projection = true (without it "
-                                "Bullet 3.24's Newton solve writes its Lagrange-multiplier rows "
-                                "past the end of node-sized vectors)");
-}
 
 /// One cloth in its own deformable world.
 class BulletDeformableCloth final : public BulletCloth {
@@ -105,9 +80,44 @@ class BulletDeformableCloth final : public BulletCloth {
 
 }  // namespace
 
+std::optional<Refusal> deformable_refusal(const BulletOptions& o, const cloth::Scene& scene) {
+  if (auto refusal = bullet_scene_refusal(scene, kKind)) return refusal;
+  const cloth::ClothParams& c = scene.cloth;
+  // btDeformableMassSpringForce has one elastic stiffness for every non-bending link
+  // (a grid one particle wide has no shear springs, whatever their stiffness)
+  const bool has_shear = c.k_shear > 0 && c.nu > 1 && c.nv > 1;
+  if (c.k_structural > 0 && has_shear && c.k_structural != c.k_shear)
+    return Refusal{
+        std::string(kKind) +
+            " cannot model this scene: its mass-spring force has one stiffness for structural "
+            "and shear springs, but cloth.stiffness has structural = " +
+            cloth::toml_double(c.k_structural) + " and shear = " + cloth::toml_double(c.k_shear) +
+            " N/m (make them equal, or run this scene on other engines)",
+        {"cloth.stiffness.structural", "cloth.stiffness.shear"},
+        {}};
+  if (o.line_search && !o.implicit)
+    return Refusal{std::string(kKind) +
+                       ": line_search only applies to the implicit scheme; set implicit = true or "
+                       "line_search = false",
+                   {},
+                   {"line_search", "implicit"}};
+  // without projection the constraints become Lagrange multipliers, but Bullet's Newton
+  // loop solves with node-sized vectors while its matrix product writes the multiplier rows
+  // after them (btDeformableBackwardEulerObjective::multiply); the seed scene goes unstable
+  if (o.implicit && !o.projection)
+    return Refusal{std::string(kKind) +
+                       ": the implicit scheme needs projection = true (without it Bullet 3.24's "
+                       "Newton solve writes its Lagrange-multiplier rows past the end of "
+                       "node-sized vectors)",
+                   {},
+                   {"projection", "implicit"}};
+  return std::nullopt;
+}
+
 std::unique_ptr<cloth::Simulator> make_bullet_deformable(const BulletOptions& options,
                                                          const cloth::Scene& scene) {
-  check_deformable(options, scene);
+  if (const auto refusal = deformable_refusal(options, scene))
+    throw std::invalid_argument(refusal->why);
   return std::make_unique<BulletDeformableCloth>(options, scene);
 }
 

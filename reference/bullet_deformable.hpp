@@ -4,12 +4,19 @@
 /// physically equivalent reference for the custom engine.
 
 #include <memory>
+#include <optional>
 
 #include "cloth/scene.hpp"
 #include "cloth/simulator.hpp"
-#include "harness/scenario.hpp"
+#include "reference/bullet_options.hpp"
 
 namespace clothbench::reference {
+
+/// Why bullet-deformable cannot model scene with options (naming the feature and the keys to
+/// blame), or nullopt: what every Bullet engine refuses (bullet_scene_refusal), structural and
+/// shear stiffness that differ (one stiffness for both), and option combinations Bullet
+/// ignores or mishandles. Builds nothing.
+std::optional<Refusal> deformable_refusal(const BulletOptions& options, const cloth::Scene& scene);
 
 /// A btDeformableMultiBodyDynamicsWorld with one cloth driven by
 /// btDeformableMassSpringForce(k, c, true, k_bend) (damping along the spring, our formula)
@@ -39,9 +46,8 @@ namespace clothbench::reference {
 /// two runs end 1.5e-12 m apart after 3 s. The implicit scheme does not feed the split velocity
 /// to its solve and was not affected.
 ///
-/// Throws std::invalid_argument naming the feature for what it cannot model: structural and
-/// shear stiffness that differ (one stiffness for both), the features check_bullet_scene
-/// refuses, and option combinations Bullet ignores or mishandles.
+/// Throws std::invalid_argument with deformable_refusal's reason for a scene it cannot model
+/// (the scenario loader refuses those first, so that is a programmer error).
 std::unique_ptr<cloth::Simulator> make_bullet_deformable(const BulletOptions& options,
                                                          const cloth::Scene& scene);
 

@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "cloth/number_format.hpp"
 #include "reference/bullet_cloth.hpp"
 #include "reference/link_stiffness.hpp"
 
@@ -16,30 +17,6 @@ namespace clothbench::reference {
 namespace {
 
 constexpr const char* kKind = "bullet-softbody";
-
-/// Refuses bad options and what the classic soft body cannot model.
-void check_softbody(const BulletOptions& o, double dt, const cloth::Scene& scene) {
-  check_bullet_scene(scene, kKind);
-  const std::string who = std::string(kKind) + ": ";
-  if (o.stiffness != "matched" && o.stiffness != "klst")
-    throw std::invalid_argument(who + "stiffness must be \"matched\" or \"klst\", got \"" +
-                                o.stiffness + "\"");
-  if (o.stiffness == "klst" && !(o.klst > 0.0 && o.klst <= 1.0))
-    throw std::invalid_argument(who + "klst must be in (0, 1], got " + std::to_string(o.klst));
-  if (o.iterations < 1)
-    throw std::invalid_argument(who + "iterations must be at least 1, got " +
-                                std::to_string(o.iterations));
-  if (!(dt > 0.0))
-    throw std::invalid_argument(who + "dt must be positive, got " + std::to_string(dt));
-  if (o.implicit || o.line_search)
-    throw std::invalid_argument(who + "implicit and line_search are bullet-deformable options");
-  // Bullet's classic friction is kDF * friction with kDF in [0, 1]
-  for (size_t i = 0; i < scene.spheres.size(); ++i)
-    if (scene.spheres[i].friction > 1.0)
-      throw std::invalid_argument(who + "sphere " + std::to_string(i) + " has friction " +
-                                  std::to_string(scene.spheres[i].friction) +
-                                  ", but the classic soft body's friction is at most 1");
-}
 
 /// One cloth in its own classic soft-rigid world.
 class BulletSoftBodyCloth final : public BulletCloth {
@@ -90,7 +67,7 @@ class BulletSoftBodyCloth final : public BulletCloth {
   void set_link_stiffness(double dt) {
     for (auto& [key, material] : m_materials) {
       const auto [k, w] = key;
-      if (m_options.stiffness == "klst")
+      if (m_options.stiffness == SoftbodyStiffness::klst)
         material->m_kLST = m_options.klst;
       else  // a link between two pins never moves: any kLST will do
         material->m_kLST = w > 0.0 ? matched_link_klst(k, w, dt, m_options.iterations) : 1.0;
@@ -102,7 +79,7 @@ class BulletSoftBodyCloth final : public BulletCloth {
 
   void advance(double dt) override {
     // "matched" depends on dt: follow a caller that changes it
-    if (dt != m_dt && m_options.stiffness == "matched") {
+    if (dt != m_dt && m_options.stiffness == SoftbodyStiffness::matched) {
       set_link_stiffness(dt);
       m_body->updateLinkConstants();
     }
@@ -121,9 +98,36 @@ class BulletSoftBodyCloth final : public BulletCloth {
 
 }  // namespace
 
+std::optional<Refusal> softbody_refusal(const BulletOptions& o, double dt,
+                                        const cloth::Scene& scene) {
+  if (auto refusal = bullet_scene_refusal(scene, kKind)) return refusal;
+  const std::string who = std::string(kKind) + ": ";
+  if (o.stiffness == SoftbodyStiffness::klst && !(o.klst > 0.0 && o.klst <= 1.0))
+    return Refusal{who + "klst must be in (0, 1], got " + cloth::toml_double(o.klst), {}, {"klst"}};
+  if (o.iterations < 1)
+    return Refusal{who + "iterations must be at least 1, got " + std::to_string(o.iterations),
+                   {},
+                   {"iterations"}};
+  if (!(dt > 0.0)) return Refusal{who + "dt must be positive, got " + cloth::toml_double(dt), {}, {"dt"}};
+  if (o.implicit || o.line_search)
+    return Refusal{who + "implicit and line_search are bullet-deformable options",
+                   {},
+                   {"implicit", "line_search"}};
+  // Bullet's classic friction is kDF * friction with kDF in [0, 1]
+  for (size_t i = 0; i < scene.spheres.size(); ++i)
+    if (scene.spheres[i].friction > 1.0)
+      return Refusal{who + "sphere " + std::to_string(i) + " has friction " +
+                         cloth::toml_double(scene.spheres[i].friction) +
+                         ", but the classic soft body's friction is at most 1",
+                     {"sphere." + std::to_string(i) + ".friction"},
+                     {}};
+  return std::nullopt;
+}
+
 std::unique_ptr<cloth::Simulator> make_bullet_softbody(const BulletOptions& options, double dt,
                                                        const cloth::Scene& scene) {
-  check_softbody(options, dt, scene);
+  if (const auto refusal = softbody_refusal(options, dt, scene))
+    throw std::invalid_argument(refusal->why);
   return std::make_unique<BulletSoftBodyCloth>(options, dt, scene);
 }
 

@@ -3,12 +3,19 @@
 /// The "bullet-softbody" engine: Bullet's classic soft body, position-based link projection.
 
 #include <memory>
+#include <optional>
 
 #include "cloth/scene.hpp"
 #include "cloth/simulator.hpp"
-#include "harness/scenario.hpp"
+#include "reference/bullet_options.hpp"
 
 namespace clothbench::reference {
+
+/// Why bullet-softbody cannot model scene with options at step dt (naming the feature and the
+/// keys to blame), or nullopt: what every Bullet engine refuses (bullet_scene_refusal), bad
+/// options, sphere friction above 1. Builds nothing.
+std::optional<Refusal> softbody_refusal(const BulletOptions& options, double dt,
+                                        const cloth::Scene& scene);
 
 /// A btSoftRigidDynamicsWorld with one cloth whose links are projected options.iterations
 /// times per step. options.stiffness = "klst" uses options.klst for every link; "matched"
@@ -21,8 +28,8 @@ namespace clothbench::reference {
 /// projection itself dissipates), so dissipated() books the energy balance of every step
 /// (Dissipation::energy_balance): what the projection, the contacts and the air drag took out.
 /// Its energy_error is therefore 0 by construction and not a measure of anything. Throws
-/// std::invalid_argument naming the feature for bad options and what check_bullet_scene
-/// refuses.
+/// std::invalid_argument with softbody_refusal's reason for a scene it cannot model (the
+/// scenario loader refuses those first, so that is a programmer error).
 /// @param dt  the step the engine will be run with (s), for "matched"
 std::unique_ptr<cloth::Simulator> make_bullet_softbody(const BulletOptions& options, double dt,
                                                        const cloth::Scene& scene);

@@ -45,6 +45,20 @@ ENGINES = [  # name, kind, integrator, dt
     ("bullet-softbody", "bullet-softbody", "", 1e-3),
 ]
 
+# the facts about engine kinds and integrators that clothbench writes into run.json
+# (run_info_json in src/harness/runner.cpp), which the report reads: fixture data
+FACTS = {
+    "engine_kinds": {
+        "custom": {"has_integrators": True, "energy_gated": True, "energy_note": ""},
+        "bullet-deformable": {"has_integrators": False, "energy_gated": True, "energy_note": ""},
+        "bullet-softbody": {"has_integrators": False, "energy_gated": False,
+                            "energy_note": "0 by construction (bullet-softbody books its energy "
+                                           "balance as dissipated)"}},
+    "integrators": {name: {"order": order, "force_evals_per_step": evals} for name, order, evals in
+                    [("explicit-euler", 1, 1), ("symplectic-euler", 1, 1),
+                     ("picard-implicit", 1, 2), ("midpoint", 2, 2), ("rk4", 4, 4),
+                     ("implicit-euler", 1, 1)]}}
+
 
 class Cloth:
     """A square mass-spring grid; particle p = i * NV + j, positions are #P by 3."""
@@ -397,7 +411,7 @@ def make_run(folder, damping):
     with open(os.path.join(folder, "run.json"), "w", encoding="utf-8") as f:
         json.dump({"tool": "clothbench", "version": "0.1.0", "git_commit": "0000000 (fixture)",
                    "compiler": "synthetic (analysis/tests/make_fixtures.py)",
-                   "date": "2025-01-01T00:00:00Z"}, f, indent=2)
+                   "date": "2025-01-01T00:00:00Z", **FACTS}, f, indent=2)
         f.write("\n")
 
 
@@ -486,8 +500,8 @@ def make_sweep(folder):
     with open(os.path.join(folder, "run.json"), "w", encoding="utf-8") as f:
         json.dump({"tool": "clothbench", "version": "0.1.0", "git_commit": "0000000 (fixture)",
                    "compiler": "synthetic (analysis/tests/make_fixtures.py)",
-                   "date": "2025-01-01T00:00:00Z", "command": "accuracy + stability (modelled)"},
-                  f, indent=2)
+                   "date": "2025-01-01T00:00:00Z", "command": "accuracy + stability (modelled)",
+                   **FACTS}, f, indent=2)
         f.write("\n")
 
 

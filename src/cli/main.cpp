@@ -75,8 +75,8 @@ int cmd_run(const std::string& path, std::string out, const std::vector<std::str
     const EngineRun& r = result.runs[i];
     const auto& d = result.divergence[i];
     std::cout << r.spec.name << ','
-              << (r.spec.kind == "custom" ? cloth::integrator_name(r.spec.solver.integrator)
-                                          : r.spec.kind.c_str())
+              << (r.spec.kind == EngineKind::custom ? cloth::integrator_name(r.spec.solver.integrator)
+                                                    : engine_kind_name(r.spec.kind))
               << ',' << format_double(r.spec.dt) << ',' << (r.stable ? "yes" : "no") << ','
               << format_double(
                      std::round(1e7 * r.wall_s / std::max<double>(1, double(r.counters.steps))) /
@@ -180,7 +180,7 @@ int cmd_list() {
     }
   }
   std::cout << "engine kinds:";
-  for (const std::string& k : engine_kinds()) std::cout << ' ' << k;
+  for (const EngineKindInfo& k : engine_kind_table()) std::cout << ' ' << k.name;
   std::cout << "\nintegrators (kind = \"custom\"):";
   for (cloth::Integrator i : cloth::all_integrators())
     std::cout << ' ' << cloth::integrator_name(i);

@@ -7,19 +7,11 @@
 #include "cloth/model.hpp"
 #include "cloth/scene.hpp"
 #include "cloth/simulator.hpp"
+#include "cloth/solver_options.hpp"
 #include "cloth/spring_jacobians.hpp"
 #include "cloth/types.hpp"
 
 namespace cloth {
-
-/// Options of the custom engine.
-struct SolverOptions {
-  Integrator integrator = Integrator::rk4;
-  int newton_iterations = 1;     // implicit-euler: 1 is Baraff and Witkin's single linear solve
-  double cg_tolerance = 1e-8;    // implicit-euler: relative residual |S r| / |S b|
-  int cg_max_iterations = 2000;  // implicit-euler
-  bool clamp_compressed = true;  // implicit-euler: drop negative transverse stiffness
-};
 
 /// The custom engine. The state starts at rest in the scene's flat grid.
 class MassSpringCloth final : public Simulator {

@@ -18,6 +18,7 @@
 #include "harness/progress.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
+#include "harness/scenario_writer.hpp"
 
 namespace clothbench {
 
@@ -131,9 +132,9 @@ std::vector<double> swept_dts(const Scenario& sc, const EngineSpec& e, const Acc
 const EngineSpec* reference_base(const Scenario& sc) {
   if (sc.engines.empty()) return nullptr;
   const EngineSpec& r = sc.engines[static_cast<size_t>(sc.reference_index())];
-  if (r.kind == "custom") return &r;
+  if (r.kind == EngineKind::custom) return &r;
   for (const EngineSpec& e : sc.engines)
-    if (e.kind == "custom") return &e;
+    if (e.kind == EngineKind::custom) return &e;
   return nullptr;
 }
 
@@ -430,7 +431,7 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
   const std::vector<std::string> integrators = selected_integrators(o);
   const int jobs = std::max(1, o.jobs);
   // a scene an engine refuses fails here, before any work
-  for (const EngineSpec& e : engines) make_engine(e, sc.scene);
+  for (const EngineSpec& e : engines) require_engine_can_model(e, sc.scene, "");
 
   // the time-step study: engine, then integrator, then dt from the largest
   std::vector<Config> configs;
@@ -441,7 +442,7 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
     const std::vector<double> dts = swept_dts(sc, e, o);
     smallest_dt = std::min(smallest_dt, dts.back());
     const std::vector<std::string> own =
-        e.kind == "custom" ? integrators : std::vector<std::string>{""};
+        e.kind == EngineKind::custom ? integrators : std::vector<std::string>{""};
     for (const std::string& integrator : own)
       for (double dt : dts) {
         Config c;
@@ -493,7 +494,7 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
     for (size_t g = 0; g < grids.size(); ++g)
       for (const EngineSpec& e : engines) {
         const std::vector<std::string> own =
-            e.kind == "custom" ? integrators : std::vector<std::string>{""};
+            e.kind == EngineKind::custom ? integrators : std::vector<std::string>{""};
         for (const std::string& integrator : own) {
           Config c;
           c.spec = with_integrator_and_dt(e, integrator, e.dt);
@@ -507,7 +508,7 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
     // canonical order: engine, integrator, then grids from the coarsest
     for (const EngineSpec& e : engines)
       for (const std::string& integrator :
-           e.kind == "custom" ? integrators : std::vector<std::string>{""})
+           e.kind == EngineKind::custom ? integrators : std::vector<std::string>{""})
         for (int r : sizes) res_keys.push_back(join_key(e.name, integrator, std::to_string(r * r)));
     // rk4 at the smallest dt of either study (explicit --dts may lie above the engines' own)
     AccuracyReference& rr = report.resolution_reference;

@@ -185,10 +185,10 @@ void check_tolerance_engines(const Tolerances& t, const Scenario& sc, const fs::
 }
 
 // why a quantity is not gated for engines of a kind (empty: it is gated)
-std::string ungated_reason(const std::string& kind, const std::string& quantity) {
-  if (kind == "bullet-softbody" && quantity == "max_energy_error")
-    return "not gated: 0 by construction (bullet-softbody books its energy balance as "
-           "dissipated)";
+std::string ungated_reason(EngineKind kind, const std::string& quantity) {
+  const EngineKindInfo& info = engine_kind_info(kind);
+  if (!info.energy_gated && quantity == "max_energy_error")
+    return std::string("not gated: ") + info.energy_note;
   return "";
 }
 

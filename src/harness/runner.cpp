@@ -13,7 +13,8 @@
 #include "harness/build_info.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/engine_factory.hpp"
-#include "harness/scenario_loader.hpp"
+#include "harness/scenario_writer.hpp"
+#include "harness/user_error.hpp"
 
 namespace clothbench {
 
@@ -94,8 +95,8 @@ RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
     if (it == sc.engines.end()) {
       std::string known;
       for (const EngineSpec& e : sc.engines) known += (known.empty() ? "" : ", ") + e.name;
-      throw std::invalid_argument("--engine " + name + ": no such engine in " + sc.source +
-                                  " (engines: " + known + ")");
+      throw UserError("--engine " + name + ": no such engine in " + sc.source + " (engines: " +
+                      known + ")");
     }
   }
   for (int i = 0; i < static_cast<int>(sc.engines.size()); ++i) {
@@ -104,8 +105,10 @@ RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
                                    sc.engines[static_cast<size_t>(i)].name) > 0;
     if (wanted) chosen.push_back(i);
   }
-  // build every engine once before any work, so a scene an engine refuses fails early
-  for (int i : chosen) make_engine(sc.engines[static_cast<size_t>(i)], sc.scene);
+  // a scene an engine refuses fails before any work (the loader refused it already, unless
+  // the caller changed the scene since)
+  for (int i : chosen)
+    require_engine_can_model(sc.engines[static_cast<size_t>(i)], sc.scene, "");
 
   double total_steps = 0;
   for (int i : chosen) total_steps += double(planned_steps(sc, sc.engines[static_cast<size_t>(i)]));
@@ -155,25 +158,31 @@ double final_drape_coefficient(const RunResult& result, const EngineRun& run) {
   return drape_coefficient(run.frames.back().shadow_area, support, cloth_area);
 }
 
-std::string run_info_json() {
-  char date[32];
-  const std::time_t now = std::time(nullptr);
-  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+namespace {
+
+/// The facts about engine kinds and integrators that the gate and the report read from
+/// run.json rather than keeping copies of their own, as JSON members (two-space indented).
+std::string facts_json() {
   std::ostringstream o;
-  o << "{\n  \"tool\": \"clothbench\",\n  \"version\": \"" << kVersion << "\",\n"
-    << "  \"git_commit\": \"" << kGitCommit << "\",\n  \"compiler\": \"" << kCompiler
-    << "\",\n  \"date\": \"" << date << "\"\n}\n";
+  o << "  \"engine_kinds\": {";
+  const auto& kinds = engine_kind_table();
+  for (size_t k = 0; k < kinds.size(); ++k)
+    o << (k ? "," : "") << "\n    \"" << kinds[k].name << "\": {\"has_integrators\": "
+      << (kinds[k].has_integrators ? "true" : "false")
+      << ", \"energy_gated\": " << (kinds[k].energy_gated ? "true" : "false")
+      << ", \"energy_note\": \"" << kinds[k].energy_note << "\"}";
+  o << "\n  },\n  \"integrators\": {";
+  const auto& integrators = cloth::all_integrators();
+  for (size_t k = 0; k < integrators.size(); ++k)
+    o << (k ? "," : "") << "\n    \"" << cloth::integrator_name(integrators[k])
+      << "\": {\"order\": " << cloth::integrator_order(integrators[k])
+      << ", \"force_evals_per_step\": " << cloth::force_evals_per_step(integrators[k]) << "}";
+  o << "\n  }";
   return o.str();
 }
 
-void write_run(const RunResult& result, const std::string& dir) {
-  make_directories(dir);
-  const std::string ref_name = result.runs[static_cast<size_t>(result.reference)].spec.name;
-  CsvWriter frames(
-      dir + "/frames.csv",
-      {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
-       "total_energy", "energy_error", "max_strain", "mean_strain", "com_x", "com_y", "com_z",
-       "min_y", "max_penetration", "shadow_area", "stable"});
+/// frames.csv: one row per engine per frame.
+void write_frames(const RunResult& result, CsvWriter& frames) {
   for (const EngineRun& run : result.runs)
     for (const FrameMetrics& m : run.frames) {
       frames.add(run.spec.name).add(m.t).add(m.kinetic).add(m.gravity_potential);
@@ -182,9 +191,11 @@ void write_run(const RunResult& result, const std::string& dir) {
       frames.add(m.min_y).add(m.max_penetration).add(m.shadow_area).add(m.stable ? 1 : 0);
       frames.end_row();
     }
-  CsvWriter div(dir + "/divergence.csv",
-                {"engine", "reference", "t", "rms_distance", "max_distance", "com_distance",
-                 "energy_difference", "shadow_area_difference"});
+}
+
+/// divergence.csv: every engine but the reference against it, per frame.
+void write_divergence(const RunResult& result, CsvWriter& div) {
+  const std::string ref_name = result.runs[static_cast<size_t>(result.reference)].spec.name;
   for (size_t i = 0; i < result.runs.size(); ++i) {
     if (static_cast<int>(i) == result.reference) continue;
     for (const Divergence& d : result.divergence[i]) {
@@ -193,7 +204,10 @@ void write_run(const RunResult& result, const std::string& dir) {
       div.add(d.shadow_area_difference).end_row();
     }
   }
-  CsvWriter snaps(dir + "/snapshots.csv", {"engine", "t", "i", "j", "x", "y", "z"});
+}
+
+/// snapshots.csv: every particle of every kept shape.
+void write_snapshots(const RunResult& result, CsvWriter& snaps) {
   const int nu = result.model.nu;
   for (const EngineRun& run : result.runs)
     for (size_t s = 0; s < run.snapshots.size(); ++s)
@@ -203,15 +217,15 @@ void write_run(const RunResult& result, const std::string& dir) {
         snaps.add(run.snapshots[s](0, p)).add(run.snapshots[s](1, p)).add(run.snapshots[s](2, p));
         snaps.end_row();
       }
-  CsvWriter summary(dir + "/summary.csv",
-                    {"engine", "kind", "integrator", "dt", "steps", "wall_s", "us_per_step",
-                     "force_evals", "stable", "blowup_t", "max_energy_error",
-                     "final_rms_vs_reference", "max_rms_vs_reference", "drape_coefficient"});
+}
+
+/// summary.csv: one row per engine.
+void write_summary(const RunResult& result, CsvWriter& summary) {
   for (size_t i = 0; i < result.runs.size(); ++i) {
     const EngineRun& run = result.runs[i];
     const std::vector<Divergence>& d = result.divergence[i];
-    summary.add(run.spec.name).add(run.spec.kind);
-    if (run.spec.kind == "custom")
+    summary.add(run.spec.name).add(std::string(engine_kind_name(run.spec.kind)));
+    if (engine_kind_info(run.spec.kind).has_integrators)
       summary.add(std::string(cloth::integrator_name(run.spec.solver.integrator)));
     else
       summary.skip();
@@ -237,6 +251,41 @@ void write_run(const RunResult& result, const std::string& dir) {
       summary.add(dc);
     summary.end_row();
   }
+}
+
+}  // namespace
+
+std::string run_info_json() {
+  char date[32];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  std::ostringstream o;
+  o << "{\n  \"tool\": \"clothbench\",\n  \"version\": \"" << kVersion << "\",\n"
+    << "  \"git_commit\": \"" << kGitCommit << "\",\n  \"compiler\": \"" << kCompiler
+    << "\",\n  \"date\": \"" << date << "\",\n"
+    << facts_json() << "\n}\n";
+  return o.str();
+}
+
+void write_run(const RunResult& result, const std::string& dir) {
+  make_directories(dir);
+  CsvWriter frames(
+      dir + "/frames.csv",
+      {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
+       "total_energy", "energy_error", "max_strain", "mean_strain", "com_x", "com_y", "com_z",
+       "min_y", "max_penetration", "shadow_area", "stable"});
+  write_frames(result, frames);
+  CsvWriter div(dir + "/divergence.csv",
+                {"engine", "reference", "t", "rms_distance", "max_distance", "com_distance",
+                 "energy_difference", "shadow_area_difference"});
+  write_divergence(result, div);
+  CsvWriter snaps(dir + "/snapshots.csv", {"engine", "t", "i", "j", "x", "y", "z"});
+  write_snapshots(result, snaps);
+  CsvWriter summary(dir + "/summary.csv",
+                    {"engine", "kind", "integrator", "dt", "steps", "wall_s", "us_per_step",
+                     "force_evals", "stable", "blowup_t", "max_energy_error",
+                     "final_rms_vs_reference", "max_rms_vs_reference", "drape_coefficient"});
+  write_summary(result, summary);
   AtomicFile toml(dir + "/scenario.toml");
   toml.write(scenario_to_toml(result.scenario));
   AtomicFile info(dir + "/run.json");

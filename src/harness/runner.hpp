@@ -73,7 +73,9 @@ long long planned_steps(const Scenario& sc, const EngineSpec& spec);
 /// Drape coefficient of the final frame of run, NaN when the scene has no support.
 double final_drape_coefficient(const RunResult& result, const EngineRun& run);
 
-/// Contents of run.json: tool version, git commit, compiler, date.
+/// Contents of run.json: tool version, git commit, compiler, date, and the facts about engine
+/// kinds (has_integrators, energy_gated, energy_note) and integrators (order,
+/// force_evals_per_step) that the report reads instead of keeping copies of its own.
 std::string run_info_json();
 
 }  // namespace clothbench

@@ -6,8 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "cloth/mass_spring_cloth.hpp"
 #include "cloth/scene.hpp"
+#include "cloth/solver_options.hpp"
+#include "harness/engine_kind.hpp"
+#include "reference/bullet_options.hpp"
 
 namespace clothbench {
 
@@ -22,23 +24,13 @@ struct ConstraintSpec {
   std::vector<std::pair<int, int>> indices;  // select = "indices": (i, j) pairs
 };
 
-/// Options of the Bullet engines (ignored by the custom one).
-struct BulletOptions {
-  bool implicit = false;              // bullet-deformable: backward Euler instead of explicit
-  bool line_search = false;           // bullet-deformable, implicit: Newton line search
-  bool projection = true;             // bullet-deformable, implicit: contact projection
-  std::string stiffness = "matched";  // bullet-softbody: "matched" (from k) or "klst"
-  double klst = 1.0;                  // bullet-softbody: link stiffness in [0, 1] when "klst"
-  int iterations = 10;                // bullet-softbody: position-solver iterations
-};
-
 /// One engine of a scenario.
 struct EngineSpec {
   std::string name;             // unique within the scenario
-  std::string kind = "custom";  // custom | bullet-deformable | bullet-softbody
-  double dt = 1e-3;             // s
-  cloth::SolverOptions solver;  // kind = custom
-  BulletOptions bullet;         // kind = bullet-*
+  EngineKind kind = EngineKind::custom;
+  double dt = 1e-3;                 // s
+  cloth::SolverOptions solver;      // kind = custom
+  reference::BulletOptions bullet;  // kind = bullet-*
 };
 
 /// Everything a run needs; every key of the scenario file has a field here.

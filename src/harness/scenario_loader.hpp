@@ -7,31 +7,14 @@
 ///   scenarios/x.toml:12: cloth.damping: expected a number >= 0, got -3
 ///   --set engine.custom-rk4.dt: expected a number > 0, got -1
 
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "harness/scenario.hpp"
-#include "harness/user_error.hpp"
+#include "harness/scenario_error.hpp"
 
 namespace clothbench {
-
-/// A scenario the user got wrong: bad file, bad key, bad value, bad override.
-class ScenarioError : public UserError {
- public:
-  /// @param where    "file:line", "--set key" or a file name alone (unreadable file)
-  /// @param key      dotted key path ("cloth.damping", "engine.custom-rk4.dt"); may be empty
-  /// @param problem  what was expected and what was found
-  ScenarioError(const std::string& where, const std::string& key, const std::string& problem);
-
-  const std::string& where() const { return m_where; }
-  const std::string& key() const { return m_key; }
-  const std::string& problem() const { return m_problem; }
-
- private:
-  std::string m_where, m_key, m_problem;
-};
 
 /// Reads, overrides and validates the scenario file at path; source is set to path.
 /// @param overrides  "key=value" strings as given to --set, applied in order before validation
@@ -53,14 +36,7 @@ Scenario parse_scenario(std::string_view toml_text, const std::string& source_na
                         const std::vector<std::string>& overrides = {},
                         const std::vector<std::string>& only = {});
 
-/// The fully resolved scenario (every key, defaults filled in) as TOML; parsing it gives back
-/// the same Scenario (source aside). Doubles are written in their shortest exact form.
-std::string scenario_to_toml(const Scenario& scenario);
-
 /// The text of scenarios/seed_sphere_drape.toml, compiled into the binary.
 std::string embedded_default_scenario();
-
-/// Why engine cannot model scene (names the feature), or "" when it can.
-std::string engine_limitation(const EngineSpec& engine, const cloth::Scene& scene);
 
 }  // namespace clothbench

@@ -13,6 +13,7 @@
 #include "harness/progress.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
+#include "harness/scenario_writer.hpp"
 
 namespace clothbench {
 
@@ -136,7 +137,7 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
     if (!o.engines.empty() &&
         std::find(o.engines.begin(), o.engines.end(), e.name) == o.engines.end())
       continue;
-    if (e.kind != "custom") {
+    if (e.kind != EngineKind::custom) {
       configs.push_back({e, ""});
       continue;
     }
@@ -155,7 +156,7 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
     if (!cloth::parse_integrator(name))
       throw std::invalid_argument("--integrator " + name + ": unknown integrator");
   if (configs.empty()) throw std::invalid_argument("nothing to sweep: no engine matches");
-  for (const Config& c : configs) make_engine(c.engine, sc.scene);  // refuse bad scenes early
+  for (const Config& c : configs) require_engine_can_model(c.engine, sc.scene, "");
 
   // the folder: an earlier sweep is only resumed when it ran the same scenario and options
   make_directories(o.out_dir);
@@ -260,7 +261,7 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
 
     // the cause: what failed, or why nothing did
     std::string limiting;
-    if (c.engine.kind == "custom") {
+    if (c.engine.kind == EngineKind::custom) {
       row.predicted_dt = cloth::predicted_stable_dt(c.engine.solver.integrator, spectrum);
       limiting = "limiting mode " +
                  cloth::limiting_mode(c.engine.solver.integrator, spectrum, row.predicted_dt);
@@ -279,7 +280,7 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
     if (n_engine < n_min)
       row.cause += "; the engine's dt " + format_double(c.engine.dt) +
                    " s is above --dt-max: the search started at " + format_double(dt_of(n0)) + " s";
-    if (c.engine.kind == "custom" && !spectrum.exact) row.cause += " (" + spectrum.method + ")";
+    if (c.engine.kind == EngineKind::custom && !spectrum.exact) row.cause += " (" + spectrum.method + ")";
     // a ratio only between two limits: a bound or a missing measurement gives none
     if (n_stable > 0 && n_unstable > 0 && std::isfinite(row.predicted_dt))
       row.ratio = row.stable_dt / row.predicted_dt;

@@ -8,6 +8,7 @@
 #include "harness/csv_writer.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
+#include "harness/scenario_writer.hpp"
 #include "temp_dir.hpp"
 
 using namespace clothbench;

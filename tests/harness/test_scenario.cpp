@@ -13,6 +13,7 @@
 #include "cloth/model.hpp"
 #include "harness/scenario.hpp"
 #include "harness/scenario_loader.hpp"
+#include "harness/scenario_writer.hpp"
 
 namespace fs = std::filesystem;
 using namespace clothbench;
@@ -290,7 +291,7 @@ TEST_CASE("the seed scenario is the engine's seed scene", "[scenario]") {
                                           "bullet-deformable-implicit", "bullet-softbody-matched"});
   CHECK(s.engines[3].dt == 1e-3);
   CHECK(s.engines[5].bullet.implicit);
-  CHECK(s.engines[6].bullet.stiffness == "matched");
+  CHECK(s.engines[6].bullet.stiffness == clothbench::reference::SoftbodyStiffness::matched);
 }
 
 TEST_CASE("keeping engines by name: a misspelt name is refused with the nearest one", "[scenario]") {

@@ -1,0 +1,104 @@
+#include "harness/scenario_writer.hpp"
+
+#include <initializer_list>
+#include <sstream>
+
+#include "cloth/number_format.hpp"
+#include "harness/scenario_format.hpp"
+#include "harness/toml_text.hpp"
+
+namespace clothbench {
+
+namespace {
+
+using cloth::toml_double;
+
+std::string vec(std::initializer_list<double> xs) {
+  std::string s = "[";
+  for (double x : xs) s += (s.size() > 1 ? ", " : "") + toml_double(x);
+  return s + "]";
+}
+
+}  // namespace
+
+std::string scenario_to_toml(const Scenario& s) {
+  std::ostringstream o;
+  const auto d = [](double x) { return toml_double(x); };
+  o << "# the fully resolved scenario: every key, with defaults and overrides filled in\n"
+    << "name = " << toml_string(s.name) << "\n"
+    << "description = " << toml_string(s.description) << "\n"
+    << "duration = " << d(s.duration) << "  # s\n"
+    << "frame_interval = " << d(s.frame_interval) << "  # s\n"
+    << "snapshot_interval = " << d(s.snapshot_interval) << "  # s\n"
+    << "blowup_strain = " << d(s.blowup_strain) << "\n"
+    << "reference = "
+    << toml_string(!s.reference.empty() || s.engines.empty() ? s.reference : s.engines.front().name)
+    << "\n";
+  const cloth::Vector3& g = s.scene.gravity;
+  o << "gravity = " << vec({g.x(), g.y(), g.z()}) << "  # m/s^2\n";
+
+  const cloth::ClothParams& c = s.scene.cloth;
+  o << "\n[cloth]\n"
+    << "particles = [" << c.nu << ", " << c.nv << "]\n"
+    << "size = " << vec({c.size_u, c.size_v}) << "  # m\n"
+    << "center = " << vec({c.center.x(), c.center.y(), c.center.z()}) << "  # m\n"
+    << "plane = " << (c.plane == cloth::Plane::xz ? "\"xz\"" : "\"xy\"") << "\n";
+  if (c.total_mass > 0)
+    o << "total_mass = " << d(c.total_mass) << "  # kg\n";
+  else
+    o << "particle_mass = " << d(c.particle_mass) << "  # kg\n";
+  o << "stiffness = { structural = " << d(c.k_structural) << ", shear = " << d(c.k_shear)
+    << ", bend = " << d(c.k_bend) << " }  # N/m\n"
+    << "damping = " << d(c.damping) << "  # N s/m\n"
+    << "air_drag = " << d(c.air_drag) << "  # N s/m\n";
+
+  for (const ConstraintSpec& k : s.constraints) {
+    o << "\n[[constraint]]\n"
+      << "select = " << toml_string(k.select) << "\n"
+      << "hold = " << toml_string(hold_letters(k.hold)) << "\n";
+    if (k.select == "disk")
+      o << "center = " << vec({k.disk_center_x, k.disk_center_z}) << "  # m\n"
+        << "radius = " << d(k.disk_radius) << "  # m\n";
+    if (k.select == "indices") {
+      o << "list = [";
+      for (size_t p = 0; p < k.indices.size(); ++p)
+        o << (p ? ", " : "") << "[" << k.indices[p].first << ", " << k.indices[p].second << "]";
+      o << "]\n";
+    }
+  }
+
+  for (const cloth::Sphere& sp : s.scene.spheres) {
+    o << "\n[[sphere]]\n"
+      << "center = " << vec({sp.center.x(), sp.center.y(), sp.center.z()}) << "  # m\n"
+      << "radius = " << d(sp.radius) << "  # m\n"
+      << "restitution = " << d(sp.restitution) << "\n"
+      << "friction = " << d(sp.friction) << "\n"
+      << "velocity = " << vec({sp.velocity.x(), sp.velocity.y(), sp.velocity.z()}) << "  # m/s\n"
+      << "margin = " << d(sp.margin) << "  # m\n";
+  }
+
+  for (const EngineSpec& e : s.engines) {
+    o << "\n[[engine]]\n"
+      << "name = " << toml_string(e.name) << "\n"
+      << "kind = " << toml_string(engine_kind_name(e.kind)) << "\n"
+      << "dt = " << d(e.dt) << "  # s\n";
+    if (e.kind == EngineKind::custom) {
+      o << "integrator = " << toml_string(cloth::integrator_name(e.solver.integrator)) << "\n"
+        << "newton_iterations = " << e.solver.newton_iterations << "\n"
+        << "cg_tolerance = " << d(e.solver.cg_tolerance) << "\n"
+        << "cg_max_iterations = " << e.solver.cg_max_iterations << "\n"
+        << "clamp_compressed = " << (e.solver.clamp_compressed ? "true" : "false") << "\n";
+    } else if (e.kind == EngineKind::bullet_deformable) {
+      o << "implicit = " << (e.bullet.implicit ? "true" : "false") << "\n"
+        << "line_search = " << (e.bullet.line_search ? "true" : "false") << "\n"
+        << "projection = " << (e.bullet.projection ? "true" : "false") << "\n";
+    } else if (e.kind == EngineKind::bullet_softbody) {
+      o << "stiffness = " << toml_string(reference::softbody_stiffness_name(e.bullet.stiffness)) << "\n"
+        << "klst = " << d(e.bullet.klst) << "\n"
+        << "iterations = " << e.bullet.iterations << "\n";
+    }
+  }
+  return o.str();
+}
+
+}  // namespace clothbench
