@@ -393,6 +393,10 @@ Scenario read_scenario(const toml::table& root, const std::string& source,
 Scenario parse_scenario(std::string_view toml_text, const std::string& source_name,
                         const std::vector<std::string>& overrides,
                         const std::vector<std::string>& only) {
+  // a structurally extreme file would exhaust the parser's stack before it could complain
+  if (const auto problem = toml_structure_problem(toml_text))
+    throw ScenarioError(source_name + ":" + std::to_string(problem->first), "",
+                        "not a scenario file: " + problem->second);
   toml::table root;
   try {
     root = toml::parse(toml_text, source_name);

@@ -33,6 +33,8 @@ std::string trim(std::string_view s) {
 
 /// One TOML value, parsed so that its source reads "--set key"; a bare word is a string.
 toml::table parse_value(const std::string& text, const std::string& where) {
+  if (const auto problem = toml_structure_problem(text))
+    throw ScenarioError(where, "", "cannot read the value: " + problem->second);
   const auto one_value = [&](const std::string& doc) {
     toml::table t = toml::parse("v = " + doc + "\n", where);
     if (t.size() != 1 || !t.contains("v"))
