@@ -18,6 +18,7 @@
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
 #include "harness/stability_sweep.hpp"
+#include "harness/csv_reader.hpp"
 #include "harness/sweep.hpp"
 
 namespace clothbench {
