@@ -99,7 +99,8 @@ AccuracyRow resolution_row(const CsvRecord& f) {
   r.force_evals = f.integer(7);
   r.cg_iterations = f.integer(8);
   r.rerun = f.text(9);
-  if (r.rerun.size() >= 2 && r.rerun.front() == '"') r.rerun = r.rerun.substr(1, r.rerun.size() - 2);
+  if (r.rerun.size() >= 2 && r.rerun.front() == '"')
+    r.rerun = r.rerun.substr(1, r.rerun.size() - 2);
   return r;
 }
 

@@ -63,8 +63,8 @@ std::vector<EngineSpec> selected_engines(const Scenario& sc, const AccuracyOptio
                      [&](const EngineSpec& e) { return e.name == name; })) {
       std::string known;
       for (const EngineSpec& e : sc.engines) known += (known.empty() ? "" : ", ") + e.name;
-      throw UserError("--engine " + name + ": no such engine in " + sc.source + " (engines: " +
-                      known + ")");
+      throw UserError("--engine " + name + ": no such engine in " + sc.source +
+                      " (engines: " + known + ")");
     }
   }
   std::vector<EngineSpec> out;

@@ -29,10 +29,10 @@ struct ReferenceRun {
 
 /// Everything an accuracy sweep runs, in file order.
 struct AccuracyPlan {
-  std::vector<AccuracyConfig> configs;    // time-step study, then resolution study
-  std::vector<std::string> dt_keys;       // work_precision.csv rows, in order
-  std::vector<std::string> res_keys;      // resolution.csv rows, in order
-  std::vector<std::string> engine_names;  // selected engines, in scenario order
+  std::vector<AccuracyConfig> configs;     // time-step study, then resolution study
+  std::vector<std::string> dt_keys;        // work_precision.csv rows, in order
+  std::vector<std::string> res_keys;       // resolution.csv rows, in order
+  std::vector<std::string> engine_names;   // selected engines, in scenario order
   AccuracyReference reference;             // the time-step study's
   AccuracyReference resolution_reference;  // study "" when there is no resolution study
   ReferenceRun reference_run, floor_run, resolution_reference_run;

@@ -45,7 +45,8 @@ struct Scenes {
   cloth::Model model;
   std::vector<cloth::Model> grid_models;
 
-  Scenes(const Scenario& s, const AccuracyPlan& p) : sc(s), plan(p), model(cloth::build_model(s.scene)) {
+  Scenes(const Scenario& s, const AccuracyPlan& p)
+      : sc(s), plan(p), model(cloth::build_model(s.scene)) {
     for (const Scenario& g : p.grids) grid_models.push_back(cloth::build_model(g.scene));
   }
   const Scenario& scenario(int grid) const { return grid < 0 ? sc : plan.grids[size_t(grid)]; }
@@ -104,8 +105,8 @@ class AccuracyRows {
       : m_particles(plan.reference.nu * plan.reference.nv),
         m_dt_table(dir + "work_precision.csv", work_precision_header(), 3, resume) {
     if (!plan.grids.empty())
-      m_res_table = std::make_unique<SweepTable>(dir + "resolution.csv", resolution_header(), 3,
-                                                 resume);
+      m_res_table =
+          std::make_unique<SweepTable>(dir + "resolution.csv", resolution_header(), 3, resume);
   }
 
   /// Takes the configuration's row from the earlier sweep; false when it has none.
@@ -210,9 +211,7 @@ struct ReferenceJobs {
   std::vector<RefJob> jobs;
   int dt = -1, floor = -1, resolution = -1;  // indices into jobs; -1: not run
 
-  const EngineRun* run(int index) const {
-    return index >= 0 ? &jobs[size_t(index)].run : nullptr;
-  }
+  const EngineRun* run(int index) const { return index >= 0 ? &jobs[size_t(index)].run : nullptr; }
 };
 
 ReferenceJobs plan_reference_jobs(const AccuracyPlan& plan,
@@ -265,9 +264,8 @@ void run_references(const Scenes& scenes, ReferenceJobs& refs, int jobs, Progres
   });
   if (ref_threads > 1)
     for (size_t i = 1; i < refs.jobs.size(); ++i)
-      progress.advance(
-          double(planned_steps(scenes.scenario(refs.jobs[i].grid), refs.jobs[i].spec)),
-          "references");
+      progress.advance(double(planned_steps(scenes.scenario(refs.jobs[i].grid), refs.jobs[i].spec)),
+                       "references");
   for (const RefJob& j : refs.jobs) {
     if (j.run.stable) continue;
     const Scenario& s = scenes.scenario(j.grid);
@@ -280,8 +278,7 @@ void run_references(const Scenes& scenes, ReferenceJobs& refs, int jobs, Progres
 
 /// The reference's error floor: rk4 at twice its dt against it.
 double error_floor(const ReferenceJobs& refs) {
-  return rms_distance(refs.run(refs.floor)->snapshots.back(),
-                      refs.run(refs.dt)->snapshots.back());
+  return rms_distance(refs.run(refs.floor)->snapshots.back(), refs.run(refs.dt)->snapshots.back());
 }
 
 /// A run of one configuration, its wall time the median over repeats.
@@ -357,8 +354,7 @@ void run_configs(const Scenes& scenes, const std::vector<std::vector<size_t>>& g
     const Scenario& s = scenes.scenario(first.grid);
     const TimedRun t =
         timed_run(s, scenes.model_of(first.grid), first.spec, o.repeats, first.grid < 0);
-    for (size_t i : members)
-      rows.add(plan.configs[i], measure(plan, plan.configs[i], t, refs));
+    for (size_t i : members) rows.add(plan.configs[i], measure(plan, plan.configs[i], t, refs));
     std::lock_guard<std::mutex> lock(progress_mutex);
     *runs += 1;
     progress.advance(double(o.repeats) * double(planned_steps(s, first.spec)),

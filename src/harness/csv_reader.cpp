@@ -26,8 +26,8 @@ CsvTable split_table(const std::string& path, const std::string& text) {
   std::string line;
   if (!std::getline(in, line)) return table;
   table.header = split_csv_line(line);
-  const auto source = std::make_shared<const CsvRecord::Source>(
-      CsvRecord::Source{path, table.header});
+  const auto source =
+      std::make_shared<const CsvRecord::Source>(CsvRecord::Source{path, table.header});
   for (int number = 2; std::getline(in, line); ++number)
     if (!line.empty()) table.records.emplace_back(source, number, split_csv_line(line));
   return table;
@@ -87,8 +87,7 @@ long long CsvRecord::integer(size_t column) const {
   char* end = nullptr;
   errno = 0;
   const long long v = std::strtoll(f.c_str(), &end, 10);
-  if (f.empty() || end != f.c_str() + f.size() || errno == ERANGE)
-    fail(column, "a whole number");
+  if (f.empty() || end != f.c_str() + f.size() || errno == ERANGE) fail(column, "a whole number");
   return v;
 }
 

@@ -36,8 +36,7 @@ AtomicFile::AtomicFile(std::string path) : m_path(std::move(path)) {
               .string();
   m_file = std::fopen(m_tmp.c_str(), "w");
   if (!m_file)
-    throw UserError("cannot write in " + p.parent_path().string() + ": " +
-                             std::strerror(errno));
+    throw UserError("cannot write in " + p.parent_path().string() + ": " + std::strerror(errno));
 }
 
 AtomicFile::~AtomicFile() {
@@ -89,7 +88,7 @@ void make_directories(const std::string& dir) {
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir))
     throw UserError("cannot create output folder " + dir + ": " +
-                             (ec ? ec.message() : std::string("not a folder")));
+                    (ec ? ec.message() : std::string("not a folder")));
   if (::access(dir.c_str(), W_OK) != 0)
     throw UserError("cannot write in output folder " + dir + ": " + std::strerror(errno));
 }

@@ -14,14 +14,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "harness/csv_reader.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
 #include "harness/stability_sweep.hpp"
-#include "harness/csv_reader.hpp"
+#include "harness/sweep.hpp"
 #include "harness/text_file.hpp"
 #include "harness/user_error.hpp"
-#include "harness/sweep.hpp"
 
 namespace clothbench {
 
@@ -71,7 +71,7 @@ Tolerances read_tolerances(const fs::path& p) {
     root = toml::parse(read_file(p), p.string());
   } catch (const toml::parse_error& e) {
     throw UserError(p.string() + ":" + std::to_string(e.source().begin.line) + ": " +
-                             std::string(e.description()));
+                    std::string(e.description()));
   }
   const std::vector<std::string> known = [] {
     std::vector<std::string> k = kMetricQuantities;
@@ -95,8 +95,7 @@ Tolerances read_tolerances(const fs::path& p) {
     if (std::find(known.begin(), known.end(), name) == known.end())
       throw UserError(p.string() + ": unknown quantity \"" + name + "\"");
     const toml::table* tab = node.as_table();
-    if (!tab)
-      throw UserError(p.string() + ": " + name + ": expected { abs = ..., rel = ... }");
+    if (!tab) throw UserError(p.string() + ": " + name + ": expected { abs = ..., rel = ... }");
     Tolerance tol;
     tol.abs = (*tab)["abs"].value_or(0.0);
     tol.rel = (*tab)["rel"].value_or(0.0);
@@ -118,7 +117,7 @@ Tolerances read_tolerances(const fs::path& p) {
       const toml::table* e = node.as_table();
       if (!e)
         throw UserError(p.string() + ": " + where +
-                                 ": expected { quantities = [...], reason = \"...\" }");
+                        ": expected { quantities = [...], reason = \"...\" }");
       const std::string reason = (*e)["reason"].value_or(std::string());
       if (reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
       for (const std::string& q : strings((*e)["quantities"], where + ".quantities")) {
@@ -142,12 +141,12 @@ void check_tolerance_engines(const Tolerances& t, const Scenario& sc, const fs::
   };
   for (const auto& [engine, q] : t.ungated)
     if (!has(engine))
-      throw UserError(p.string() + ": [ungated." + engine + "] names an engine " +
-                               sc.name + " does not have");
+      throw UserError(p.string() + ": [ungated." + engine + "] names an engine " + sc.name +
+                      " does not have");
   for (const std::string& engine : t.mirrored)
     if (!has(engine))
-      throw UserError(p.string() + ": [mirror] names engine " + engine + ", which " +
-                               sc.name + " does not have");
+      throw UserError(p.string() + ": [mirror] names engine " + engine + ", which " + sc.name +
+                      " does not have");
   if (!t.mirrored.empty() && sc.scene.cloth.nu < 2)
     throw UserError(p.string() + ": [mirror] needs a grid at least 2 particles wide");
 }
@@ -209,9 +208,8 @@ Shapes read_shapes(const fs::path& p, const cloth::Model& model) {
     const long i = std::lround(r.number(1, NAN)), j = std::lround(r.number(2, NAN));
     if (i < 0 || i >= model.nu || j < 0 || j >= model.nv)
       throw UserError(p.string() + ":" + std::to_string(r.line()) + ": particle (" + r.text(1) +
-                      ", " + r.text(2) + ") outside the " +
-                               std::to_string(model.nu) + " x " + std::to_string(model.nv) +
-                               " grid");
+                      ", " + r.text(2) + ") outside the " + std::to_string(model.nu) + " x " +
+                      std::to_string(model.nv) + " grid");
     for (int a = 0; a < 3; ++a) m(a, j * model.nu + i) = r.number(size_t(3 + a), NAN);
   }
   return shapes;
@@ -374,8 +372,7 @@ ScratchFolder::ScratchFolder(const std::string& prefix) {
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   if (!::mkdtemp(name.data()))
-    throw UserError("cannot create a temporary folder " + pattern + ": " +
-                             std::strerror(errno));
+    throw UserError("cannot create a temporary folder " + pattern + ": " + std::strerror(errno));
   m_path = name.data();
 }
 
@@ -457,7 +454,8 @@ std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now) {
   Shapes old_shapes;
   std::string grid_changed;
   try {
-    if (fs::exists(plan.shape_path())) old_shapes = read_shapes(plan.shape_path(), now.result.model);
+    if (fs::exists(plan.shape_path()))
+      old_shapes = read_shapes(plan.shape_path(), now.result.model);
   } catch (const UserError& e) {
     grid_changed = e.what();  // a grid of another size: no shape to compare with
   }
@@ -494,8 +492,8 @@ class GateList {
   /// A quantity shown for the record only.
   void ungated(const std::string& engine, const std::string& quantity, double base, double now,
                double difference, const std::string& why) {
-    m_gates.push_back({m_scenario, engine, quantity, base, now, difference, NAN, true, why, "-",
-                       false});
+    m_gates.push_back(
+        {m_scenario, engine, quantity, base, now, difference, NAN, true, why, "-", false});
   }
   void add(const Gate& g) { m_gates.push_back(g); }
   const std::string& scenario() const { return m_scenario; }
@@ -583,24 +581,22 @@ void compare_shapes(const Shapes& shapes, const std::set<std::string>& recorded,
 /// the shared dt changed verdict).
 void compare_bracket(const std::string& key, const Bracket& b, const Bracket& n, bool adjacent,
                      GateList& gates) {
-  const std::string miss = "now [" + format_double(n.stable_dt) + ", " +
-                           format_double(n.first_unstable_dt) + ") misses [" +
-                           format_double(b.stable_dt) + ", " + format_double(b.first_unstable_dt) +
-                           ")";
+  const std::string miss =
+      "now [" + format_double(n.stable_dt) + ", " + format_double(n.first_unstable_dt) +
+      ") misses [" + format_double(b.stable_dt) + ", " + format_double(b.first_unstable_dt) + ")";
   // both ends fail together: the two brackets cannot hold the same limit (with adjacent,
   // brackets that share an end may: the run at that dt turned the other way)
-  const bool overlap = adjacent
-                           ? n.stable_dt <= b.first_unstable_dt && b.stable_dt <= n.first_unstable_dt
-                           : n.stable_dt < b.first_unstable_dt && b.stable_dt < n.first_unstable_dt;
+  const bool overlap =
+      adjacent ? n.stable_dt <= b.first_unstable_dt && b.stable_dt <= n.first_unstable_dt
+               : n.stable_dt < b.first_unstable_dt && b.stable_dt < n.first_unstable_dt;
   gates.add({gates.scenario(), key, "stable_dt", b.stable_dt, n.stable_dt,
              std::abs(n.stable_dt - b.stable_dt), NAN, overlap, overlap ? "" : miss,
              "< " + format_double(b.first_unstable_dt)});
   const double d = std::isinf(b.first_unstable_dt) && b.first_unstable_dt == n.first_unstable_dt
                        ? 0.0
                        : std::abs(n.first_unstable_dt - b.first_unstable_dt);
-  gates.add({gates.scenario(), key, "first_unstable_dt", b.first_unstable_dt,
-             n.first_unstable_dt, d, NAN, overlap, overlap ? "" : miss,
-             "> " + format_double(b.stable_dt)});
+  gates.add({gates.scenario(), key, "first_unstable_dt", b.first_unstable_dt, n.first_unstable_dt,
+             d, NAN, overlap, overlap ? "" : miss, "> " + format_double(b.stable_dt)});
 }
 
 void compare_stability(const CheckPlan& plan, const Brackets& now, GateList& gates) {

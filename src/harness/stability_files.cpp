@@ -28,8 +28,8 @@ std::pair<std::string, std::string> options_and_scenario(const std::string& text
     at = end == std::string::npos ? text.size() : end + 1;
   }
   const size_t from = text.find("--dt-max");
-  const std::string options = from < at ? text.substr(from, text.find('\n', from) - from)
-                                        : std::string("(none recorded)");
+  const std::string options =
+      from < at ? text.substr(from, text.find('\n', from) - from) : std::string("(none recorded)");
   return std::make_pair(options, text.substr(at));
 }
 
@@ -38,17 +38,24 @@ std::pair<std::string, std::string> options_and_scenario(const std::string& text
 const char* const kStabilitySidecar = "stability_scenario.toml";
 
 const std::vector<std::string>& stability_header() {
-  static const std::vector<std::string> header = {
-      "engine",       "integrator", "stable_dt", "first_unstable_dt",
-      "predicted_dt", "ratio_measured_to_predicted",
-      "cause",        "runs",       "rerun",     "rerun_unstable"};
+  static const std::vector<std::string> header = {"engine",       "integrator",
+                                                  "stable_dt",    "first_unstable_dt",
+                                                  "predicted_dt", "ratio_measured_to_predicted",
+                                                  "cause",        "runs",
+                                                  "rerun",        "rerun_unstable"};
   return header;
 }
 
 std::vector<std::string> stability_fields(const StabilityRow& row) {
-  return {row.engine,           row.integrator,       field(row.stable_dt),
-          field(row.first_unstable_dt), field(row.predicted_dt), field(row.ratio),
-          row.cause,            std::to_string(row.runs), row.rerun,
+  return {row.engine,
+          row.integrator,
+          field(row.stable_dt),
+          field(row.first_unstable_dt),
+          field(row.predicted_dt),
+          field(row.ratio),
+          row.cause,
+          std::to_string(row.runs),
+          row.rerun,
           row.rerun_unstable};
 }
 

@@ -23,8 +23,7 @@ bool whole_multiple(double big, double small) {
 class Search {
  public:
   Search(const Scenario& sc, const EngineSpec& engine, const std::string& integrator)
-      : m_sc(sc), m_engine(engine), m_integrator(integrator),
-        m_horizon(stability_horizon(sc)) {}
+      : m_sc(sc), m_engine(engine), m_integrator(integrator), m_horizon(stability_horizon(sc)) {}
 
   /// Whether the run of n steps is stable (counted; cause() says how it failed).
   bool stable(long long n) {

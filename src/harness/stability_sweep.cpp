@@ -55,7 +55,8 @@ std::vector<StabilityConfig> plan_configs(const Scenario& sc, const StabilityOpt
     }
     for (cloth::Integrator i : cloth::all_integrators()) {
       const std::string name = cloth::integrator_name(i);
-      if (selected(o.integrators, name)) configs.push_back({with_integrator_and_dt(e, name, e.dt), name});
+      if (selected(o.integrators, name))
+        configs.push_back({with_integrator_and_dt(e, name, e.dt), name});
     }
   }
   for (const std::string& name : o.engines)
@@ -63,9 +64,11 @@ std::vector<StabilityConfig> plan_configs(const Scenario& sc, const StabilityOpt
                      [&](const EngineSpec& e) { return e.name == name; }))
       throw UserError("--engine " + name + ": no such engine in " + sc.source);
   for (const std::string& name : o.integrators)
-    if (!cloth::parse_integrator(name)) throw UserError("--integrator " + name + ": unknown integrator");
+    if (!cloth::parse_integrator(name))
+      throw UserError("--integrator " + name + ": unknown integrator");
   if (configs.empty()) throw UserError("nothing to sweep: no engine matches");
-  for (const StabilityConfig& c : configs) make_engine(c.engine, sc.scene);  // refuse bad scenes early
+  for (const StabilityConfig& c : configs)
+    make_engine(c.engine, sc.scene);  // refuse bad scenes early
   return configs;
 }
 
@@ -94,19 +97,22 @@ std::string cause_of(const StabilityConfig& c, const StabilityBracket& b, const 
                      const cloth::LinearSpectrum& spectrum, double predicted_dt, double dt_max) {
   std::string cause;
   if (b.n_stable == 0)
-    cause = b.unstable_cause + " at every dt tried down to " + format_double(grid.dt(b.n_unstable)) +
-            " s (the engine's dt / 2^" + std::to_string(kMaxHalvings) + "): no stable dt found";
+    cause = b.unstable_cause + " at every dt tried down to " +
+            format_double(grid.dt(b.n_unstable)) + " s (the engine's dt / 2^" +
+            std::to_string(kMaxHalvings) + "): no stable dt found";
   else if (b.n_unstable == 0)
     cause = "no failure up to --dt-max = " + format_double(dt_max) +
             " s: stable_dt is a lower bound of the limit";
   else
     cause = b.unstable_cause;
   if (c.engine.kind == "custom")
-    cause += "; limiting mode " + cloth::limiting_mode(c.engine.solver.integrator, spectrum, predicted_dt);
+    cause += "; limiting mode " +
+             cloth::limiting_mode(c.engine.solver.integrator, spectrum, predicted_dt);
   const long long n_engine = std::max(1LL, std::llround(grid.horizon / c.engine.dt));
   if (n_engine < grid.n_min)
     cause += "; the engine's dt " + format_double(c.engine.dt) +
-             " s is above --dt-max: the search started at " + format_double(grid.dt(b.n_start)) + " s";
+             " s is above --dt-max: the search started at " + format_double(grid.dt(b.n_start)) +
+             " s";
   if (c.engine.kind == "custom" && !spectrum.exact) cause += " (" + spectrum.method + ")";
   return cause;
 }

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/scenario.hpp"
 #include "harness/run_parallel.hpp"
+#include "harness/scenario.hpp"
 #include "harness/stability_search.hpp"
 #include "harness/sweep.hpp"
 
