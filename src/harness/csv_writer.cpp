@@ -7,6 +7,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "harness/user_error.hpp"
+
 namespace clothbench {
 
 std::string format_double(double v) {
@@ -21,14 +23,20 @@ std::string format_double(double v) {
   return buf;
 }
 
+std::string csv_field(const std::string& f) {
+  if (f.find_first_of(",\"\n") == std::string::npos) return f;
+  std::string q = "\"";
+  for (char ch : f) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
 AtomicFile::AtomicFile(std::string path) : m_path(std::move(path)) {
   const std::filesystem::path p(m_path);
   m_tmp = (p.parent_path() / ("." + p.filename().string() + ".tmp." + std::to_string(::getpid())))
               .string();
   m_file = std::fopen(m_tmp.c_str(), "w");
   if (!m_file)
-    throw std::runtime_error("cannot write in " + p.parent_path().string() + ": " +
-                             std::strerror(errno));
+    throw UserError("cannot write in " + p.parent_path().string() + ": " + std::strerror(errno));
 }
 
 AtomicFile::~AtomicFile() {
@@ -40,7 +48,7 @@ AtomicFile::~AtomicFile() {
 
 void AtomicFile::write(const std::string& text) {
   if (std::fwrite(text.data(), 1, text.size(), m_file) != text.size())
-    throw std::runtime_error("cannot write " + m_path + ": " + std::strerror(errno));
+    throw UserError("cannot write " + m_path + ": " + std::strerror(errno));
 }
 
 void AtomicFile::commit() {
@@ -49,7 +57,7 @@ void AtomicFile::commit() {
   m_file = nullptr;
   if (!ok || std::rename(m_tmp.c_str(), m_path.c_str()) != 0) {
     std::remove(m_tmp.c_str());
-    throw std::runtime_error("cannot write " + m_path + ": " + std::strerror(errno));
+    throw UserError("cannot write " + m_path + ": " + std::strerror(errno));
   }
 }
 
@@ -79,10 +87,10 @@ void make_directories(const std::string& dir) {
   std::error_code ec;
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir))
-    throw std::runtime_error("cannot create output folder " + dir + ": " +
-                             (ec ? ec.message() : std::string("not a folder")));
+    throw UserError("cannot create output folder " + dir + ": " +
+                    (ec ? ec.message() : std::string("not a folder")));
   if (::access(dir.c_str(), W_OK) != 0)
-    throw std::runtime_error("cannot write in output folder " + dir + ": " + std::strerror(errno));
+    throw UserError("cannot write in output folder " + dir + ": " + std::strerror(errno));
 }
 
 }  // namespace clothbench

@@ -12,10 +12,13 @@ namespace clothbench {
 /// Shortest text that reads back as the same double ("nan", "inf" and "-inf" for non-finite).
 std::string format_double(double v);
 
+/// A field as written to CSV: quoted when it holds a comma, a quote or a newline.
+std::string csv_field(const std::string& field);
+
 /// A file that appears under its name only when committed.
 class AtomicFile {
  public:
-  /// Opens a temporary file beside path. Throws std::runtime_error naming the folder when it
+  /// Opens a temporary file beside path. Throws UserError naming the folder when it
   /// cannot be written.
   explicit AtomicFile(std::string path);
   ~AtomicFile();
@@ -53,7 +56,7 @@ class CsvWriter {
   size_t m_fields = 0;
 };
 
-/// Creates a folder and its parents; throws std::runtime_error naming it when that fails.
+/// Creates a folder and its parents; throws UserError naming it when that fails.
 void make_directories(const std::string& dir);
 
 }  // namespace clothbench

@@ -14,11 +14,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "harness/csv_reader.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
 #include "harness/stability_sweep.hpp"
 #include "harness/sweep.hpp"
+#include "harness/text_file.hpp"
+#include "harness/user_error.hpp"
 
 namespace clothbench {
 
@@ -58,42 +61,7 @@ const std::vector<std::string> kMetricQuantities = {"stable",
                                                     "final_com_y"};
 
 std::string read_file(const fs::path& p) {
-  std::ifstream in(p);
-  if (!in) throw std::runtime_error("cannot read " + p.string());
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::vector<std::vector<std::string>> read_csv(const fs::path& p,
-                                               const std::vector<std::string>& header) {
-  std::istringstream in(read_file(p));
-  std::string line;
-  std::getline(in, line);
-  if (split_csv_line(line) != header)
-    throw std::runtime_error(p.string() + ": expected the header " + [&] {
-      std::string h;
-      for (const auto& x : header) h += (h.empty() ? "" : ",") + x;
-      return h;
-    }());
-  std::vector<std::vector<std::string>> rows;
-  while (std::getline(in, line)) {
-    if (line.empty()) continue;
-    rows.push_back(split_csv_line(line));
-    if (rows.back().size() != header.size())
-      throw std::runtime_error(p.string() + ": a row with " + std::to_string(rows.back().size()) +
-                               " fields for " + std::to_string(header.size()) + " columns");
-  }
-  return rows;
-}
-
-double to_number(const std::string& s, const fs::path& file) {
-  if (s.empty()) return NAN;
-  try {
-    return std::stod(s);
-  } catch (const std::exception&) {
-    throw std::runtime_error(file.string() + ": \"" + s + "\" is not a number");
-  }
+  return read_existing_text(p.string());
 }
 
 Tolerances read_tolerances(const fs::path& p) {
@@ -102,8 +70,8 @@ Tolerances read_tolerances(const fs::path& p) {
   try {
     root = toml::parse(read_file(p), p.string());
   } catch (const toml::parse_error& e) {
-    throw std::runtime_error(p.string() + ":" + std::to_string(e.source().begin.line) + ": " +
-                             std::string(e.description()));
+    throw UserError(p.string() + ":" + std::to_string(e.source().begin.line) + ": " +
+                    std::string(e.description()));
   }
   const std::vector<std::string> known = [] {
     std::vector<std::string> k = kMetricQuantities;
@@ -113,10 +81,10 @@ Tolerances read_tolerances(const fs::path& p) {
   auto strings = [&](toml::node_view<const toml::node> node, const std::string& where) {
     std::vector<std::string> out;
     const toml::array* a = node.as_array();
-    if (!a) throw std::runtime_error(p.string() + ": " + where + ": expected an array of strings");
+    if (!a) throw UserError(p.string() + ": " + where + ": expected an array of strings");
     for (const auto& v : *a) {
       if (!v.is_string())
-        throw std::runtime_error(p.string() + ": " + where + ": expected an array of strings");
+        throw UserError(p.string() + ": " + where + ": expected an array of strings");
       out.push_back(v.value_or(std::string()));
     }
     return out;
@@ -125,17 +93,16 @@ Tolerances read_tolerances(const fs::path& p) {
     const std::string name(key.str());
     if (name == "stability" || name == "ungated" || name == "mirror") continue;
     if (std::find(known.begin(), known.end(), name) == known.end())
-      throw std::runtime_error(p.string() + ": unknown quantity \"" + name + "\"");
+      throw UserError(p.string() + ": unknown quantity \"" + name + "\"");
     const toml::table* tab = node.as_table();
-    if (!tab)
-      throw std::runtime_error(p.string() + ": " + name + ": expected { abs = ..., rel = ... }");
+    if (!tab) throw UserError(p.string() + ": " + name + ": expected { abs = ..., rel = ... }");
     Tolerance tol;
     tol.abs = (*tab)["abs"].value_or(0.0);
     tol.rel = (*tab)["rel"].value_or(0.0);
     t.quantity[name] = tol;
   }
   for (const std::string& q : known)
-    if (!t.quantity.count(q)) throw std::runtime_error(p.string() + ": no tolerance for " + q);
+    if (!t.quantity.count(q)) throw UserError(p.string() + ": no tolerance for " + q);
   if (const toml::table* s = root["stability"].as_table()) {
     t.stability = true;
     t.stability_engine = (*s)["engine"].value_or(std::string());
@@ -149,13 +116,13 @@ Tolerances read_tolerances(const fs::path& p) {
       const std::string engine(engine_key.str()), where = "ungated." + engine;
       const toml::table* e = node.as_table();
       if (!e)
-        throw std::runtime_error(p.string() + ": " + where +
-                                 ": expected { quantities = [...], reason = \"...\" }");
+        throw UserError(p.string() + ": " + where +
+                        ": expected { quantities = [...], reason = \"...\" }");
       const std::string reason = (*e)["reason"].value_or(std::string());
-      if (reason.empty()) throw std::runtime_error(p.string() + ": " + where + ": no reason");
+      if (reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
       for (const std::string& q : strings((*e)["quantities"], where + ".quantities")) {
         if (std::find(known.begin(), known.end(), q) == known.end())
-          throw std::runtime_error(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
+          throw UserError(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
         t.ungated[engine][q] = reason;
       }
     }
@@ -174,14 +141,14 @@ void check_tolerance_engines(const Tolerances& t, const Scenario& sc, const fs::
   };
   for (const auto& [engine, q] : t.ungated)
     if (!has(engine))
-      throw std::runtime_error(p.string() + ": [ungated." + engine + "] names an engine " +
-                               sc.name + " does not have");
+      throw UserError(p.string() + ": [ungated." + engine + "] names an engine " + sc.name +
+                      " does not have");
   for (const std::string& engine : t.mirrored)
     if (!has(engine))
-      throw std::runtime_error(p.string() + ": [mirror] names engine " + engine + ", which " +
-                               sc.name + " does not have");
+      throw UserError(p.string() + ": [mirror] names engine " + engine + ", which " + sc.name +
+                      " does not have");
   if (!t.mirrored.empty() && sc.scene.cloth.nu < 2)
-    throw std::runtime_error(p.string() + ": [mirror] needs a grid at least 2 particles wide");
+    throw UserError(p.string() + ": [mirror] needs a grid at least 2 particles wide");
 }
 
 // why a quantity is not gated for engines of a kind (empty: it is gated)
@@ -226,7 +193,8 @@ const std::vector<std::string> kStabilityHeader = {"engine", "integrator", "stab
 
 Metrics read_metrics(const fs::path& p) {
   Metrics m;
-  for (const auto& r : read_csv(p, kMetricsHeader)) m[r[0] + "/" + r[1]] = to_number(r[2], p);
+  for (const CsvRecord& r : read_csv(p.string(), kMetricsHeader).records)
+    m[r.text(0) + "/" + r.text(1)] = r.number(2, NAN);
   return m;
 }
 
@@ -234,23 +202,23 @@ Metrics read_metrics(const fs::path& p) {
 Shapes read_shapes(const fs::path& p, const cloth::Model& model) {
   Shapes shapes;
   const Eigen::Index np = model.particle_count();
-  for (const auto& r : read_csv(p, kShapeHeader)) {
-    auto& m = shapes[r[0]];
+  for (const CsvRecord& r : read_csv(p.string(), kShapeHeader).records) {
+    auto& m = shapes[r.text(0)];
     if (m.cols() == 0) m = cloth::Matrix3X::Constant(3, np, NAN);
-    const long i = std::lround(to_number(r[1], p)), j = std::lround(to_number(r[2], p));
+    const long i = std::lround(r.number(1, NAN)), j = std::lround(r.number(2, NAN));
     if (i < 0 || i >= model.nu || j < 0 || j >= model.nv)
-      throw std::runtime_error(p.string() + ": particle (" + r[1] + ", " + r[2] + ") outside the " +
-                               std::to_string(model.nu) + " x " + std::to_string(model.nv) +
-                               " grid");
-    for (int a = 0; a < 3; ++a) m(a, j * model.nu + i) = to_number(r[size_t(3 + a)], p);
+      throw UserError(p.string() + ":" + std::to_string(r.line()) + ": particle (" + r.text(1) +
+                      ", " + r.text(2) + ") outside the " + std::to_string(model.nu) + " x " +
+                      std::to_string(model.nv) + " grid");
+    for (int a = 0; a < 3; ++a) m(a, j * model.nu + i) = r.number(size_t(3 + a), NAN);
   }
   return shapes;
 }
 
 Brackets read_brackets(const fs::path& p) {
   Brackets b;
-  for (const auto& r : read_csv(p, kStabilityHeader))
-    b[r[0] + "/" + r[1]] = {to_number(r[2], p), to_number(r[3], p)};
+  for (const CsvRecord& r : read_csv(p.string(), kStabilityHeader).records)
+    b[r.text(0) + "/" + r.text(1)] = {r.number(2, NAN), r.number(3, NAN)};
   return b;
 }
 
@@ -404,8 +372,7 @@ ScratchFolder::ScratchFolder(const std::string& prefix) {
   std::vector<char> name(pattern.begin(), pattern.end());
   name.push_back('\0');
   if (!::mkdtemp(name.data()))
-    throw std::runtime_error("cannot create a temporary folder " + pattern + ": " +
-                             std::strerror(errno));
+    throw UserError("cannot create a temporary folder " + pattern + ": " + std::strerror(errno));
   m_path = name.data();
 }
 
@@ -414,95 +381,148 @@ ScratchFolder::~ScratchFolder() {
   fs::remove_all(m_path, ignored);
 }
 
-std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOptions& o) {
+namespace {
+
+/// What a check compares: the scenario, its baseline folder and its tolerances.
+struct CheckPlan {
+  Scenario sc;
+  fs::path dir;  // the scenario's baseline folder
+  Tolerances tol;
+  fs::path metrics_path() const { return dir / "metrics.csv"; }
+  fs::path shape_path() const { return dir / "shape.csv"; }
+  fs::path stability_path() const { return dir / "stability.csv"; }
+};
+
+/// What the scenario does now: its run, and its stability limits when they are gated.
+struct CheckRun {
+  RunResult result;
+  std::vector<StabilityRow> stability;
+  Brackets brackets;
+};
+
+/// Refuses a perturbed update, loads the scenario and its tolerances (writing the template
+/// first for a new baseline).
+CheckPlan plan_check(const std::string& scenario_path, const CheckOptions& o) {
+  // std::invalid_argument, not UserError: the regression tests expect this type
   if (o.update && !o.overrides.empty() && !o.record_perturbed)
     throw std::invalid_argument(
         "--update with --set would record a perturbed engine as the baseline, which then hides "
         "the very change it should catch; drop the --set overrides, or add --record-perturbed "
         "if a perturbed baseline is what you mean");
-  const Scenario sc = load_scenario(scenario_path, o.overrides);
-  const fs::path dir = fs::path(o.baseline_dir) / sc.name;
-  const fs::path tol_path = dir / "tolerances.toml";
+  CheckPlan plan{load_scenario(scenario_path, o.overrides), {}, {}};
+  plan.dir = fs::path(o.baseline_dir) / plan.sc.name;
+  const fs::path tol_path = plan.dir / "tolerances.toml";
   if (o.update && !fs::exists(tol_path)) {
-    make_directories(dir.string());
+    make_directories(plan.dir.string());
     AtomicFile f(tol_path.string());
     f.write(kToleranceTemplate);
     f.commit();
   }
   if (!fs::exists(tol_path))
-    throw std::runtime_error("no baseline for scenario " + sc.name + ": " + tol_path.string() +
-                             " is missing (record one with clothbench check --update)");
-  const Tolerances tol = read_tolerances(tol_path);
-  check_tolerance_engines(tol, sc, tol_path);
+    throw UserError("no baseline for scenario " + plan.sc.name + ": " + tol_path.string() +
+                    " is missing (record one with clothbench check --update)");
+  plan.tol = read_tolerances(tol_path);
+  check_tolerance_engines(plan.tol, plan.sc, tol_path);
+  return plan;
+}
 
+CheckRun run_check(const CheckPlan& plan, const CheckOptions& o) {
+  CheckRun now;
   RunOptions ro;
   ro.progress = o.progress;
-  const RunResult result = run_scenario(sc, ro);
-  std::vector<StabilityRow> stability;
-  if (tol.stability) {
+  now.result = run_scenario(plan.sc, ro);
+  if (plan.tol.stability) {
     // the search writes its table to a folder of its own, gone on every way out of this block
-    const ScratchFolder scratch("clothbench-check-" + sc.name + "-");
+    const ScratchFolder scratch("clothbench-check-" + plan.sc.name + "-");
     StabilityOptions so;
     so.out_dir = scratch.path();
-    so.engines = {tol.stability_engine};
-    so.integrators = tol.stability_integrators;
-    so.rel_tol = tol.stability_rel_tol;
+    so.engines = {plan.tol.stability_engine};
+    so.integrators = plan.tol.stability_integrators;
+    so.rel_tol = plan.tol.stability_rel_tol;
     so.jobs = o.jobs;
     so.progress = o.progress;
-    stability = run_stability(sc, so);
+    now.stability = run_stability(plan.sc, so);
   }
-  const Brackets now_brackets = brackets_of(stability);
+  now.brackets = brackets_of(now.stability);
+  return now;
+}
 
-  const fs::path mpath = dir / "metrics.csv", spath = dir / "shape.csv",
-                 stpath = dir / "stability.csv";
-  if (o.update) {
-    // the previous baseline, if any, to say what changed
-    const Metrics old_metrics = fs::exists(mpath) ? read_metrics(mpath) : Metrics();
-    Shapes old_shapes;
-    std::string grid_changed;
-    try {
-      if (fs::exists(spath)) old_shapes = read_shapes(spath, result.model);
-    } catch (const std::runtime_error& e) {
-      grid_changed = e.what();  // a grid of another size: no shape to compare with
-    }
-    const Brackets old_brackets = fs::exists(stpath) ? read_brackets(stpath) : Brackets();
-    write_baseline(dir, result, tol.stability ? &stability : nullptr);
-    std::vector<Gate> gates =
-        changes(sc.name, old_metrics, old_shapes, old_brackets, result, now_brackets);
-    if (!grid_changed.empty())
-      gates.push_back({sc.name, "", "final_shape_rms", NAN, NAN, NAN, NAN, true,
-                       "previous shapes not comparable: " + grid_changed, "-"});
-    return gates;
+/// --update: records the baseline and reports what changed against the previous one.
+std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now) {
+  const Metrics old_metrics =
+      fs::exists(plan.metrics_path()) ? read_metrics(plan.metrics_path()) : Metrics();
+  Shapes old_shapes;
+  std::string grid_changed;
+  try {
+    if (fs::exists(plan.shape_path()))
+      old_shapes = read_shapes(plan.shape_path(), now.result.model);
+  } catch (const UserError& e) {
+    grid_changed = e.what();  // a grid of another size: no shape to compare with
   }
+  const Brackets old_brackets =
+      fs::exists(plan.stability_path()) ? read_brackets(plan.stability_path()) : Brackets();
+  write_baseline(plan.dir, now.result, plan.tol.stability ? &now.stability : nullptr);
+  std::vector<Gate> gates =
+      changes(plan.sc.name, old_metrics, old_shapes, old_brackets, now.result, now.brackets);
+  if (!grid_changed.empty())
+    gates.push_back({plan.sc.name, "", "final_shape_rms", NAN, NAN, NAN, NAN, true,
+                     "previous shapes not comparable: " + grid_changed, "-"});
+  return gates;
+}
 
-  std::vector<Gate> gates;
-  auto gate = [&](const std::string& engine, const std::string& quantity, double base, double now,
-                  double allowed, double difference) {
-    Gate g{sc.name, engine, quantity, base, now, difference, allowed, true, "", ""};
+/// The gates of one scenario, added as the comparison goes.
+class GateList {
+ public:
+  explicit GateList(std::string scenario) : m_scenario(std::move(scenario)) {}
+
+  /// A gated quantity: passes when within allowed (or missing on both sides).
+  void gate(const std::string& engine, const std::string& quantity, double base, double now,
+            double allowed, double difference) {
+    Gate g{m_scenario, engine, quantity, base, now, difference, allowed, true, "", ""};
     const bool both_nan = std::isnan(base) && std::isnan(now);
     g.pass = both_nan || difference <= allowed;
     if (!g.pass) g.note = std::isnan(difference) ? "one side is missing" : "moved";
-    gates.push_back(g);
-  };
-  auto fail = [&](const std::string& engine, const std::string& quantity, double base, double now,
-                  const std::string& why) {
-    gates.push_back({sc.name, engine, quantity, base, now, NAN, 0, false, why, ""});
-  };
+    m_gates.push_back(g);
+  }
+  /// A quantity that fails whatever its value, for the reason why.
+  void fail(const std::string& engine, const std::string& quantity, double base, double now,
+            const std::string& why) {
+    m_gates.push_back({m_scenario, engine, quantity, base, now, NAN, 0, false, why, ""});
+  }
+  /// A quantity shown for the record only.
+  void ungated(const std::string& engine, const std::string& quantity, double base, double now,
+               double difference, const std::string& why) {
+    m_gates.push_back(
+        {m_scenario, engine, quantity, base, now, difference, NAN, true, why, "-", false});
+  }
+  void add(const Gate& g) { m_gates.push_back(g); }
+  const std::string& scenario() const { return m_scenario; }
+  std::vector<Gate>& gates() { return m_gates; }
 
-  // engines: every one recorded must have run, every one that ran must have a baseline
-  const Metrics base = read_metrics(mpath);
-  const Shapes shapes = read_shapes(spath, result.model);
+ private:
+  std::string m_scenario;
+  std::vector<Gate> m_gates;
+};
+
+/// Every engine recorded must have run and every one that ran must have a baseline; returns
+/// the recorded ones.
+std::set<std::string> compare_engines(const Metrics& base, const Shapes& shapes,
+                                      const RunResult& result, GateList& gates) {
   std::set<std::string> recorded, ran;
   for (const auto& [key, v] : base) recorded.insert(engine_of(key));
   for (const auto& [engine, x] : shapes) recorded.insert(engine);
   for (const EngineRun& run : result.runs) ran.insert(run.spec.name);
   for (const std::string& engine : recorded)
-    if (!ran.count(engine)) fail(engine, "ran", 1, 0, "recorded in the baseline but did not run");
+    if (!ran.count(engine))
+      gates.fail(engine, "ran", 1, 0, "recorded in the baseline but did not run");
   for (const std::string& engine : ran)
     if (!recorded.count(engine))
-      fail(engine, "ran", 0, 1, "ran but has no baseline (record one with --update)");
+      gates.fail(engine, "ran", 0, 1, "ran but has no baseline (record one with --update)");
+  return recorded;
+}
 
-  // metrics
+void compare_metrics(const Metrics& base, const std::set<std::string>& recorded,
+                     const Tolerances& tol, const RunResult& result, GateList& gates) {
   for (size_t i = 0; i < result.runs.size(); ++i) {
     const EngineSpec& spec = result.runs[i].spec;
     if (!recorded.count(spec.name)) continue;
@@ -510,7 +530,7 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
     for (const std::string& q : kMetricQuantities) {
       const auto it = base.find(spec.name + "/" + q);
       if (it == base.end()) {
-        fail(spec.name, q, NAN, now.at(q), "not in the baseline");
+        gates.fail(spec.name, q, NAN, now.at(q), "not in the baseline");
         continue;
       }
       const double b = it->second, v = now.at(q);
@@ -518,29 +538,30 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
       const std::string why = listed != tol.ungated.end() && listed->second.count(q)
                                   ? "not gated: " + listed->second.at(q)
                                   : ungated_reason(spec.kind, q);
-      if (!why.empty()) {
-        gates.push_back({sc.name, spec.name, q, b, v, std::abs(v - b), NAN, true, why, "-", false});
-        continue;
-      }
-      gate(spec.name, q, b, v, tol.quantity.at(q).allowed(b), std::abs(v - b));
+      if (!why.empty())
+        gates.ungated(spec.name, q, b, v, std::abs(v - b), why);
+      else
+        gates.gate(spec.name, q, b, v, tol.quantity.at(q).allowed(b), std::abs(v - b));
     }
   }
-  // final shapes
+}
+
+void compare_shapes(const Shapes& shapes, const std::set<std::string>& recorded,
+                    const Tolerances& tol, const RunResult& result, GateList& gates) {
   for (const EngineRun& run : result.runs) {
     if (!recorded.count(run.spec.name)) continue;
     const auto it = shapes.find(run.spec.name);
     if (it == shapes.end()) {
-      fail(run.spec.name, "final_shape_rms", NAN, NAN, "no shape in the baseline");
-      continue;
-    }
-    const auto listed = tol.ungated.find(run.spec.name);
-    if (listed != tol.ungated.end() && listed->second.count("final_shape_rms")) {
-      const double rms = shape_rms(run.snapshots.back(), it->second);
-      gates.push_back({sc.name, run.spec.name, "final_shape_rms", 0.0, rms, rms, NAN, true,
-                       "not gated: " + listed->second.at("final_shape_rms"), "-", false});
+      gates.fail(run.spec.name, "final_shape_rms", NAN, NAN, "no shape in the baseline");
       continue;
     }
     double rms = shape_rms(run.snapshots.back(), it->second);
+    const auto listed = tol.ungated.find(run.spec.name);
+    if (listed != tol.ungated.end() && listed->second.count("final_shape_rms")) {
+      gates.ungated(run.spec.name, "final_shape_rms", 0.0, rms, rms,
+                    "not gated: " + listed->second.at("final_shape_rms"));
+      continue;
+    }
     bool mirrored = false;
     if (tol.mirrored.count(run.spec.name)) {
       // the engine may pick either side of the scene's symmetry: the nearer image counts
@@ -548,51 +569,76 @@ std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOp
       mirrored = m < rms;
       rms = std::min(rms, m);
     }
-    gate(run.spec.name, "final_shape_rms", 0.0, rms,
-         tol.quantity.at("final_shape_rms").allowed(0.0), rms);
-    if (mirrored && gates.back().pass) gates.back().note = "to the mirror image";
+    gates.gate(run.spec.name, "final_shape_rms", 0.0, rms,
+               tol.quantity.at("final_shape_rms").allowed(0.0), rms);
+    if (mirrored && gates.gates().back().pass) gates.gates().back().note = "to the mirror image";
   }
-  // stability limits: the recorded search found the limit in [stable_dt, first_unstable_dt);
-  // the same search now must bracket a limit that can be the same one, so the two half-open
-  // brackets must overlap (an adjacent bracket means the run at the shared dt changed verdict)
-  const Brackets recorded_brackets = fs::exists(stpath) ? read_brackets(stpath) : Brackets();
-  if (!tol.stability) {
-    for (const auto& [key, b] : recorded_brackets)
-      fail(key, "stable_dt", b.stable_dt, NAN,
-           "recorded, but tolerances.toml has no [stability] table to search it");
-  } else {
-    if (!fs::exists(stpath)) read_file(stpath);  // throws, naming the missing file
-    for (const auto& [key, b] : recorded_brackets)
-      if (!now_brackets.count(key))
-        fail(key, "stable_dt", b.stable_dt, NAN, "recorded in the baseline but not searched");
-    for (const auto& [key, n] : now_brackets) {
-      const auto it = recorded_brackets.find(key);
-      if (it == recorded_brackets.end()) {
-        fail(key, "stable_dt", NAN, n.stable_dt, "searched but has no baseline");
-        continue;
-      }
-      const Bracket& b = it->second;
-      const std::string miss = "now [" + format_double(n.stable_dt) + ", " +
-                               format_double(n.first_unstable_dt) + ") misses [" +
-                               format_double(b.stable_dt) + ", " +
-                               format_double(b.first_unstable_dt) + ")";
-      // both ends fail together: the two brackets cannot hold the same limit (with adjacent,
-      // brackets that share an end may: the run at that dt turned the other way)
-      const bool overlap =
-          tol.stability_adjacent
-              ? n.stable_dt <= b.first_unstable_dt && b.stable_dt <= n.first_unstable_dt
-              : n.stable_dt < b.first_unstable_dt && b.stable_dt < n.first_unstable_dt;
-      gates.push_back({sc.name, key, "stable_dt", b.stable_dt, n.stable_dt,
-                       std::abs(n.stable_dt - b.stable_dt), NAN, overlap, overlap ? "" : miss,
-                       "< " + format_double(b.first_unstable_dt)});
-      const double d = std::isinf(b.first_unstable_dt) && b.first_unstable_dt == n.first_unstable_dt
-                           ? 0.0
-                           : std::abs(n.first_unstable_dt - b.first_unstable_dt);
-      gates.push_back({sc.name, key, "first_unstable_dt", b.first_unstable_dt, n.first_unstable_dt,
-                       d, NAN, overlap, overlap ? "" : miss, "> " + format_double(b.stable_dt)});
-    }
+}
+
+/// The two gates of one stability limit: the recorded search found the limit in
+/// [stable_dt, first_unstable_dt); the same search now must bracket a limit that can be the
+/// same one, so the two half-open brackets must overlap (an adjacent bracket means the run at
+/// the shared dt changed verdict).
+void compare_bracket(const std::string& key, const Bracket& b, const Bracket& n, bool adjacent,
+                     GateList& gates) {
+  const std::string miss =
+      "now [" + format_double(n.stable_dt) + ", " + format_double(n.first_unstable_dt) +
+      ") misses [" + format_double(b.stable_dt) + ", " + format_double(b.first_unstable_dt) + ")";
+  // both ends fail together: the two brackets cannot hold the same limit (with adjacent,
+  // brackets that share an end may: the run at that dt turned the other way)
+  const bool overlap =
+      adjacent ? n.stable_dt <= b.first_unstable_dt && b.stable_dt <= n.first_unstable_dt
+               : n.stable_dt < b.first_unstable_dt && b.stable_dt < n.first_unstable_dt;
+  gates.add({gates.scenario(), key, "stable_dt", b.stable_dt, n.stable_dt,
+             std::abs(n.stable_dt - b.stable_dt), NAN, overlap, overlap ? "" : miss,
+             "< " + format_double(b.first_unstable_dt)});
+  const double d = std::isinf(b.first_unstable_dt) && b.first_unstable_dt == n.first_unstable_dt
+                       ? 0.0
+                       : std::abs(n.first_unstable_dt - b.first_unstable_dt);
+  gates.add({gates.scenario(), key, "first_unstable_dt", b.first_unstable_dt, n.first_unstable_dt,
+             d, NAN, overlap, overlap ? "" : miss, "> " + format_double(b.stable_dt)});
+}
+
+void compare_stability(const CheckPlan& plan, const Brackets& now, GateList& gates) {
+  const fs::path stpath = plan.stability_path();
+  const Brackets recorded = fs::exists(stpath) ? read_brackets(stpath) : Brackets();
+  if (!plan.tol.stability) {
+    for (const auto& [key, b] : recorded)
+      gates.fail(key, "stable_dt", b.stable_dt, NAN,
+                 "recorded, but tolerances.toml has no [stability] table to search it");
+    return;
   }
-  return gates;
+  if (!fs::exists(stpath)) read_file(stpath);  // throws, naming the missing file
+  for (const auto& [key, b] : recorded)
+    if (!now.count(key))
+      gates.fail(key, "stable_dt", b.stable_dt, NAN, "recorded in the baseline but not searched");
+  for (const auto& [key, n] : now) {
+    const auto it = recorded.find(key);
+    if (it == recorded.end())
+      gates.fail(key, "stable_dt", NAN, n.stable_dt, "searched but has no baseline");
+    else
+      compare_bracket(key, it->second, n, plan.tol.stability_adjacent, gates);
+  }
+}
+
+/// Compares the run now with the recorded baseline, gate by gate.
+std::vector<Gate> compare(const CheckPlan& plan, const CheckRun& now) {
+  GateList gates(plan.sc.name);
+  const Metrics base = read_metrics(plan.metrics_path());
+  const Shapes shapes = read_shapes(plan.shape_path(), now.result.model);
+  const std::set<std::string> recorded = compare_engines(base, shapes, now.result, gates);
+  compare_metrics(base, recorded, plan.tol, now.result, gates);
+  compare_shapes(shapes, recorded, plan.tol, now.result, gates);
+  compare_stability(plan, now.brackets, gates);
+  return std::move(gates.gates());
+}
+
+}  // namespace
+
+std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOptions& o) {
+  const CheckPlan plan = plan_check(scenario_path, o);
+  const CheckRun now = run_check(plan, o);
+  return o.update ? record(plan, now) : compare(plan, now);
 }
 
 std::string format_gates(const std::vector<Gate>& gates) {

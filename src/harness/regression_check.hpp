@@ -48,8 +48,8 @@ struct Gate {
 /// Checks (or with update, records) one scenario file against its baseline folder.
 /// Throws std::invalid_argument for update with overrides unless record_perturbed is set (a
 /// perturbed baseline recorded by accident would hide the very change it should catch),
-/// ScenarioError for a bad scenario and std::runtime_error for a missing or malformed baseline
-/// (naming the file).
+/// ScenarioError for a bad scenario and UserError for a missing or malformed baseline (naming
+/// the file, and for a CSV the line and column).
 std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOptions& o);
 
 /// The gate table as printed by `clothbench check` (one line per gate, aligned columns).
@@ -60,7 +60,7 @@ std::string format_gates(const std::vector<Gate>& gates);
 /// of the same scenario (ctest -j) never share or delete each other's files.
 class ScratchFolder {
  public:
-  /// Creates <temporary folder>/<prefix>XXXXXX; throws std::runtime_error naming it on failure.
+  /// Creates <temporary folder>/<prefix>XXXXXX; throws UserError naming it on failure.
   explicit ScratchFolder(const std::string& prefix);
   ~ScratchFolder();
   ScratchFolder(const ScratchFolder&) = delete;

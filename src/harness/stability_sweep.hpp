@@ -18,7 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "harness/run_parallel.hpp"
 #include "harness/scenario.hpp"
+#include "harness/stability_search.hpp"
 #include "harness/sweep.hpp"
 
 namespace clothbench {
@@ -59,23 +61,9 @@ struct StabilityRow {
 
 /// Finds the limits: from the engine's dt (or dt_max when that is smaller), doubling until a
 /// run is unstable (halving up to 10 times first if the engine's own dt is unstable), then
-/// bisection on a log scale to rel_tol. Throws std::invalid_argument for an unknown engine or
-/// integrator and std::runtime_error for an unwritable out_dir or a resume against a sweep of
-/// another scenario or other options.
+/// bisection on a log scale to rel_tol. Throws UserError for bad options (an unknown engine or
+/// integrator), an unwritable out_dir, a malformed stability.csv to resume, or a resume
+/// against a sweep of another scenario or other options.
 std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptions& o);
-
-/// The length of every search run (s): the scenario's duration rounded to a whole number of
-/// frame intervals, as `clothbench run` simulates it.
-double stability_horizon(const Scenario& sc);
-
-/// The --set overrides that make `clothbench run` repeat the search run of engine e (its
-/// integrator and dt set) on the scenario file sc came from: integrator, dt, frame_interval
-/// set to the horizon, and duration and snapshot_interval where they must change with it.
-/// e.dt must divide stability_horizon(sc).
-std::string stability_rerun(const Scenario& sc, const EngineSpec& e);
-
-/// Whether one run of engine e over the horizon stays stable; cause says how it failed
-/// ("non-finite" or "strain"). Runs llround(horizon / e.dt) steps.
-bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause);
 
 }  // namespace clothbench

@@ -11,6 +11,7 @@
 
 #include "harness/csv_writer.hpp"
 #include "harness/regression_check.hpp"
+#include "harness/csv_reader.hpp"
 #include "harness/sweep.hpp"
 
 using clothbench::check_scenario;
