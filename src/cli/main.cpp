@@ -8,10 +8,12 @@
 #include <exception>
 #include <iostream>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "harness/build_info.hpp"
 #include "harness/runner.hpp"
 
 using namespace clothbench;
@@ -24,7 +26,7 @@ int main(int argc, char** argv) {
         "clothbench: a custom mass-spring cloth and Bullet's soft bodies on identical scenes,\n"
         "with energy, drape-shape and stability differences logged to CSV."};
     app.require_subcommand(1);
-    app.set_version_flag("--version", "clothbench 0.1.0");
+    app.set_version_flag("--version", std::string("clothbench ") + kVersion);
     const std::vector<Command> commands = {add_run_command(app),      add_stability_command(app),
                                            add_accuracy_command(app), add_check_command(app),
                                            add_report_command(app),   add_list_command(app)};
