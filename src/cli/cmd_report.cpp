@@ -19,7 +19,7 @@
 namespace clothbench::cli {
 namespace {
 
-// runs report.py with args and returns its exit status
+// runs report.py with args and returns its exit status (128 + the signal that ended it)
 int execute_report(const std::vector<std::string>& args) {
   const std::string script = std::string(CLOTHBENCH_ANALYSIS_DIR) + "/report.py";
   const char* python =
@@ -40,7 +40,7 @@ int execute_report(const std::vector<std::string>& args) {
   int status = 0;
   if (pid < 0 || ::waitpid(pid, &status, 0) < 0)
     throw UserError("cannot start " + std::string(python) + ": " + std::strerror(errno));
-  return WIFEXITED(status) ? WEXITSTATUS(status) : kExitInternalError;
+  return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
 }  // namespace

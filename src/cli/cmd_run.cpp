@@ -59,8 +59,8 @@ Command add_run_command(CLI::App& app) {
       ->allow_extra_args(false);
   run->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   run->footer(
-      "Exit status: 0 when every engine ran (an unstable run is a result), 2 for bad input, 1 for "
-      "an internal error.");
+      "Exit status: 0 when every engine ran (an unstable run is a result), 2 for bad input, 70 "
+      "for an internal error.");
   return {run, [a] { return execute_run(*a); }};
 }
 

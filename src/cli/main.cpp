@@ -1,10 +1,11 @@
 /// @file main.cpp
 /// The clothbench command: builds the command line from the subcommands (cmd_*.cpp), runs the
 /// one chosen and turns what it throws into one line on stderr and an exit status
-/// (exit_codes.hpp).
+/// (exit_codes.hpp): a UserError is the user's to fix, anything else is a bug in clothbench.
 
 #include <CLI/CLI.hpp>
 #include <csignal>
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <stdexcept>
@@ -15,9 +16,37 @@
 #include "exit_codes.hpp"
 #include "harness/build_info.hpp"
 #include "harness/runner.hpp"
+#include "harness/user_error.hpp"
+
+namespace {
 
 using namespace clothbench;
 using namespace clothbench::cli;
+
+// text on one line: a line break would split the one-line error
+std::string one_line(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == '\r')) text.pop_back();
+  for (char& c : text)
+    if (c == '\n' || c == '\r') c = ' ';
+  return text;
+}
+
+int internal_error(const std::string& what) {
+  std::cerr << "clothbench: internal error (a bug in clothbench): " << one_line(what)
+            << "; please report it with the command line, the scenario file and the output of "
+               "`clothbench --version`\n";
+  return kExitInternalError;
+}
+
+// test hook: CLOTHBENCH_TEST_INTERNAL_ERROR=1 makes any command fail as a bug would, so that
+// tests/cli can check exit status 70 and its message (no command line can cause a bug on purpose)
+void throw_if_internal_error_requested() {
+  const char* hook = std::getenv("CLOTHBENCH_TEST_INTERNAL_ERROR");
+  if (hook && std::string(hook) == "1")
+    throw std::logic_error("CLOTHBENCH_TEST_INTERNAL_ERROR=1 is set (a test hook)");
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   bool keeps_finished_rows = false;  // what Ctrl-C leaves behind in the chosen command
@@ -37,12 +66,13 @@ int main(int argc, char** argv) {
     }
     std::signal(SIGINT, [](int) { interrupt_requested() = true; });
     std::signal(SIGTERM, [](int) { interrupt_requested() = true; });
+    throw_if_internal_error_requested();
     for (const Command& c : commands) {
       if (!*c.app) continue;
       keeps_finished_rows = c.keeps_finished_rows;
       return c.execute();
     }
-    return kExitInternalError;
+    throw std::logic_error("no subcommand chosen although one is required");
   } catch (const Interrupted&) {
     // a run writes nothing until it is complete; a sweep has kept every finished row
     if (keeps_finished_rows)
@@ -50,14 +80,12 @@ int main(int argc, char** argv) {
     else
       std::cerr << "clothbench: interrupted; no output written\n";
     return kExitInterrupted;
-  } catch (const std::invalid_argument& e) {
-    std::cerr << "clothbench: " << e.what() << '\n';
-    return kExitUserError;
-  } catch (const std::runtime_error& e) {
-    std::cerr << "clothbench: " << e.what() << '\n';
+  } catch (const UserError& e) {
+    std::cerr << "clothbench: " << one_line(e.what()) << '\n';
     return kExitUserError;
   } catch (const std::exception& e) {
-    std::cerr << "clothbench: internal error: " << e.what() << '\n';
-    return kExitInternalError;
+    return internal_error(e.what());
+  } catch (...) {
+    return internal_error("an exception that is not a std::exception");
   }
 }
