@@ -33,7 +33,7 @@ void check_divides(const Scenario& sc, double dt, const std::string& what) {
   const double n = std::round(r);
   // std::invalid_argument, not UserError: the accuracy tests expect this type
   if (!(dt > 0) || !std::isfinite(r) || n < 1 || std::abs(r - n) > 1e-9 * r)
-    throw std::invalid_argument(
+    throw UserError(
         what + ": dt = " + format_double(dt) +
         " s does not divide frame_interval = " + format_double(sc.frame_interval) + " s of " +
         sc.source + " (every swept dt must: give --dts that divide it)");

@@ -405,7 +405,7 @@ struct CheckRun {
 CheckPlan plan_check(const std::string& scenario_path, const CheckOptions& o) {
   // std::invalid_argument, not UserError: the regression tests expect this type
   if (o.update && !o.overrides.empty() && !o.record_perturbed)
-    throw std::invalid_argument(
+    throw UserError(
         "--update with --set would record a perturbed engine as the baseline, which then hides "
         "the very change it should catch; drop the --set overrides, or add --record-perturbed "
         "if a perturbed baseline is what you mean");

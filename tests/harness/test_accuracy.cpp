@@ -7,6 +7,7 @@
 
 #include "cloth/integrator.hpp"
 #include "harness/accuracy_sweep.hpp"
+#include "harness/user_error.hpp"
 #include "harness/scenario_loader.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
@@ -398,7 +399,7 @@ TEST_CASE("accuracy sweep: options a user can get wrong", "[sweep]") {
   const Scenario sc = parse_scenario(kSwing, "swing.toml");
   AccuracyOptions o = quick_options(dir.str());
   o.dts = {3e-3};  // 0.02 s frames are not a whole number of 3 ms steps
-  CHECK_THROWS_AS(run_accuracy(sc, o), std::invalid_argument);
+  CHECK_THROWS_AS(run_accuracy(sc, o), clothbench::UserError);
   CHECK_THROWS_WITH(run_accuracy(sc, o), Catch::Contains("does not divide frame_interval"));
   o.dts = {};
   o.resolutions = {3, 5};  // the two corners are given by indices

@@ -11,6 +11,7 @@
 
 #include "harness/csv_writer.hpp"
 #include "harness/regression_check.hpp"
+#include "harness/user_error.hpp"
 #include "harness/csv_reader.hpp"
 #include "harness/sweep.hpp"
 
@@ -290,7 +291,7 @@ TEST_CASE("check --update refuses --set unless a perturbed baseline is asked for
   try {
     check_scenario(sc, o);
     FAIL("a perturbed baseline was recorded");
-  } catch (const std::invalid_argument& e) {
+  } catch (const clothbench::UserError& e) {
     CHECK_THAT(e.what(), Catch::Contains("--record-perturbed"));
   }
   CHECK(read(w.chain / "metrics.csv") == recorded);

@@ -1,0 +1,76 @@
+/// @file cmd_stability.cpp
+/// `clothbench stability`: the largest stable time step of each engine and integrator.
+
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "exit_codes.hpp"
+#include "harness/stability_sweep.hpp"
+#include "scenario_input.hpp"
+#include "summaries.hpp"
+
+namespace clothbench::cli {
+namespace {
+
+struct StabilityArgs {
+  std::string scenario_path;           // empty: the embedded seed scene
+  std::vector<std::string> overrides;  // --set KEY=VALUE
+  bool quiet = false;
+  StabilityOptions options;  // out_dir empty: out/<scenario name>
+};
+
+int execute_stability(StabilityArgs a) {
+  StabilityOptions& o = a.options;
+  o.progress = !a.quiet;
+  const Scenario sc = load_or_seed(a.scenario_path, a.overrides, o.engines);
+  if (o.out_dir.empty()) o.out_dir = "out/" + sc.name;
+  const std::vector<StabilityRow> rows = run_stability(sc, o);
+  std::cout << stability_summary(rows) << std::flush;
+  if (o.progress) std::cerr << "wrote " << o.out_dir << "/stability.csv\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+Command add_stability_command(CLI::App& app) {
+  auto a = std::make_shared<StabilityArgs>();
+  StabilityOptions& o = a->options;
+  CLI::App* stability = app.add_subcommand(
+      "stability",
+      "Find the largest stable time step of each engine and integrator, measured by search\n"
+      "(doubling, then bisection, over steps that divide the run's length) and predicted by\n"
+      "linear theory; writes stability.csv, whose rerun columns replay a row with `clothbench\n"
+      "run SCENARIO <rerun>`, and stability_scenario.toml, which --resume checks.");
+  stability->add_option("scenario", a->scenario_path,
+                        "scenario file (TOML); default: the embedded seed scene");
+  stability->add_option("--out,-o", o.out_dir, "output folder (default: out/<scenario name>)");
+  stability->add_option("--engine,-e", o.engines, "search only this engine (repeatable)")
+      ->allow_extra_args(false);
+  stability
+      ->add_option("--integrator,-i", o.integrators,
+                   "custom engines: only this integrator (repeatable; default: all six)")
+      ->allow_extra_args(false);
+  stability->add_option("--dt-max", o.dt_max, "largest dt tried (s)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  stability
+      ->add_option("--rel-tol", o.rel_tol,
+                   "bisection stops when first_unstable / stable - 1 <= this (or when they are\n"
+                   "one step count apart)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  stability->add_option("--jobs,-j", o.jobs, "searches run at once (default: all cores)")
+      ->check(CLI::PositiveNumber);
+  stability->add_flag("--resume", o.resume,
+                      "keep the rows already in stability.csv and search only the rest (refused\n"
+                      "when the scenario, --set, --engine, --dt-max or --rel-tol differ)");
+  stability->add_option("--set,-s", a->overrides, "override a scenario key (repeatable)")
+      ->allow_extra_args(false);
+  stability->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
+  return {stability, [a] { return execute_stability(*a); }, true};
+}
+
+}  // namespace clothbench::cli

@@ -1,0 +1,31 @@
+#pragma once
+/// @file commands.hpp
+/// The subcommands of clothbench: each add_*_command adds one to the app with its options and
+/// returns how to execute it once the command line is parsed (cmd_<name>.cpp holds both).
+
+#include <CLI/CLI.hpp>
+#include <functional>
+
+namespace clothbench::cli {
+
+/// One subcommand added to the app; its parsed options live in the closure of execute.
+struct Command {
+  CLI::App* app = nullptr;           // the subcommand; *app is true when the user chose it
+  std::function<int()> execute;      // runs it with the parsed options; returns the exit status
+  bool keeps_finished_rows = false;  // a sweep: Ctrl-C keeps its finished rows (--resume)
+};
+
+/// `clothbench run`: every engine of a scenario, frames and summary CSVs.
+Command add_run_command(CLI::App& app);
+/// `clothbench stability`: the largest stable time step, searched and predicted.
+Command add_stability_command(CLI::App& app);
+/// `clothbench accuracy`: error against a fine reference and cost over a time-step sweep.
+Command add_accuracy_command(CLI::App& app);
+/// `clothbench check`: the regression gates against the recorded baselines.
+Command add_check_command(CLI::App& app);
+/// `clothbench report`: analysis/report.py on an output folder.
+Command add_report_command(CLI::App& app);
+/// `clothbench list`: the shipped scenarios, engine kinds and integrators.
+Command add_list_command(CLI::App& app);
+
+}  // namespace clothbench::cli
