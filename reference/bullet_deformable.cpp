@@ -86,6 +86,16 @@ std::optional<Refusal> deformable_refusal(const BulletOptions& o, const cloth::S
   // btDeformableMassSpringForce has one elastic stiffness for every non-bending link
   // (a grid one particle wide has no shear springs, whatever their stiffness)
   const bool has_shear = c.k_shear > 0 && c.nu > 1 && c.nv > 1;
+  // measured with Bullet 3.24: with no elastic link its solver never finishes a first step
+  // (explicit and implicit alike, bend links or not, 15 s and counting, Ctrl-C unheard)
+  if (!(c.k_structural > 0) && !has_shear)
+    return Refusal{std::string(kKind) +
+                       " cannot model this scene: the cloth has no structural or shear springs, "
+                       "and Bullet's deformable solver never finishes a step without them (give "
+                       "cloth.stiffness a structural or shear stiffness, or run this scene on "
+                       "other engines)",
+                   {"cloth.stiffness.structural", "cloth.stiffness.shear", "cloth.stiffness"},
+                   {}};
   if (c.k_structural > 0 && has_shear && c.k_structural != c.k_shear)
     return Refusal{
         std::string(kKind) +

@@ -10,7 +10,7 @@
 #include "exit_codes.hpp"
 #include "harness/runner.hpp"
 #include "scenario_input.hpp"
-#include "summaries.hpp"
+#include "harness/summaries.hpp"
 
 namespace clothbench::cli {
 namespace {

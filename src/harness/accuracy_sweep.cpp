@@ -85,6 +85,7 @@ void prepare_folder(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& 
   AtomicFile f(dir + "scenario.toml");
   f.write(toml);
   f.commit();
+  write_run_info(dir);
 }
 
 /// Rewrites reference.csv with the references as they stand.

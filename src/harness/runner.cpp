@@ -56,8 +56,9 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   log_frame(0, true);
   snapshot();
   for (long long f = 1; f <= frames && run.stable; ++f) {
-    if (interrupt_requested()) throw Interrupted();
     for (long long s = 0; s < steps_per_frame; ++s) {
+      // every step: one frame can be long (a stability trial is a single frame)
+      if (interrupt_requested()) throw Interrupted();
       const auto t0 = std::chrono::steady_clock::now();
       sim->step(spec.dt);
       run.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -265,6 +266,12 @@ std::string run_info_json() {
     << "\",\n  \"date\": \"" << date << "\",\n"
     << facts_json() << "\n}\n";
   return o.str();
+}
+
+void write_run_info(const std::string& dir) {
+  AtomicFile info(dir + "run.json");
+  info.write(run_info_json());
+  info.commit();
 }
 
 void write_run(const RunResult& result, const std::string& dir) {

@@ -78,4 +78,7 @@ double final_drape_coefficient(const RunResult& result, const EngineRun& run);
 /// force_evals_per_step) that the report reads instead of keeping copies of its own.
 std::string run_info_json();
 
+/// Writes run_info_json() to dir/run.json atomically (sweep folders; dir ends with '/').
+void write_run_info(const std::string& dir);
+
 }  // namespace clothbench

@@ -40,6 +40,11 @@ bool contains(const Keys& keys, std::string_view k);
 /// keys separated by ", ", each between quote.
 std::string join(const Keys& keys, const char* quote = "");
 
+/// Most steps one engine may take over a scenario's duration, and most frames a run may log:
+/// far beyond what a run can do in a day, far below where step counts overflow.
+inline constexpr double kMaxSteps = 1e9;
+inline constexpr double kMaxFrames = 1e7;
+
 /// True when big is a whole multiple (at least 1) of small, to 1e-9 relative.
 bool whole_multiple(double big, double small);
 /// "xyz", "yz", ... for held-axis bits.

@@ -252,6 +252,13 @@ void read_header(const Reader& r, const toml::table& root, Scenario& s) {
                toml_double(s.frame_interval) + " s, got duration = " + toml_double(s.duration) +
                " s");
   }
+  if (s.duration / s.frame_interval > kMaxFrames) {
+    const auto [n, key] =
+        blame({{root.get("frame_interval"), "frame_interval"}, {root.get("duration"), "duration"}});
+    r.fail(n, key,
+           "expected at most " + cloth::shortest_decimal(kMaxFrames) + " frames, got duration / frame_interval = " +
+               cloth::shortest_decimal(s.duration / s.frame_interval));
+  }
   s.snapshot_interval = r.number(at, "snapshot_interval", s.snapshot_interval, kNonNegative);
   if (s.snapshot_interval > 0 && !whole_multiple(s.snapshot_interval, s.frame_interval)) {
     const auto [n, key] = blame({{root.get("snapshot_interval"), "snapshot_interval"},
@@ -302,6 +309,11 @@ void read_engines(const Reader& r, const toml::table& root,
              "expected frame_interval to be a whole multiple of dt, got frame_interval = " +
                  toml_double(s.frame_interval) + " s and dt = " + toml_double(e.dt) + " s");
     }
+    if (s.duration / e.dt > kMaxSteps)
+      r.fail(t.get("dt") ? t.get("dt") : &t, path + ".dt",
+             "expected a dt that takes at most " + cloth::shortest_decimal(kMaxSteps) +
+                 " steps over duration = " + toml_double(s.duration) + " s, got dt = " +
+                 toml_double(e.dt) + " s (" + cloth::shortest_decimal(s.duration / e.dt) + " steps)");
     s.engines.push_back(std::move(e));
   }
 }

@@ -10,6 +10,7 @@
 #include "harness/csv_writer.hpp"
 #include "harness/engine_factory.hpp"
 #include "harness/progress.hpp"
+#include "harness/runner.hpp"
 #include "harness/stability_files.hpp"
 #include "harness/stability_search.hpp"
 #include "harness/sweep_table.hpp"
@@ -81,6 +82,7 @@ std::string prepare_folder(const Scenario& sc, const StabilityOptions& o) {
   AtomicFile f(dir + kStabilitySidecar);
   f.write(stability_sidecar_text(sc, o));
   f.commit();
+  write_run_info(dir);
   return dir;
 }
 

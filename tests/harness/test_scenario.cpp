@@ -14,6 +14,7 @@
 #include "harness/scenario.hpp"
 #include "harness/scenario_loader.hpp"
 #include "harness/scenario_writer.hpp"
+#include "harness/toml_text.hpp"
 
 namespace fs = std::filesystem;
 using namespace clothbench;
@@ -175,6 +176,26 @@ TEST_CASE("every malformed scenario names its file, line, key and what was expec
     // the message starts with "<path>:<line>: "
     CHECK_THAT(message, Catch::StartsWith(file.string() + ":" + m[2].str() + ": "));
   }
+}
+
+TEST_CASE("structurally extreme TOML is refused before the parser sees it", "[scenario]") {
+  // strings and comments do not count: brackets and dots in them are text
+  const std::string text = "description = \"" + std::string(200, '[') + "\"  # " +
+                           std::string(200, '{') + std::string(200, '.') + "\n[[engine]]\n";
+  CHECK_FALSE(clothbench::toml_structure_problem(text));
+  CHECK_NOTHROW(parse_scenario(text, "ok.toml"));
+  // 64 levels are allowed, 65 are not; the line is named
+  const auto nested = [](int depth) {
+    return "\ngravity = " + std::string(size_t(depth), '[') + std::string(size_t(depth), ']');
+  };
+  CHECK_FALSE(clothbench::toml_structure_problem(nested(clothbench::kMaxTomlDepth)));
+  const auto problem = clothbench::toml_structure_problem(nested(clothbench::kMaxTomlDepth + 1));
+  REQUIRE(problem);
+  CHECK(problem->first == 2);
+  // a --set value is guarded alike
+  CHECK_THAT(error_of([] { load_scenario(seed_path(), {"duration=" + std::string(100000, '[')}); }),
+             Catch::StartsWith("--set duration: cannot read the value: arrays or inline tables "
+                               "nested more than 64 deep"));
 }
 
 TEST_CASE("an unreadable scenario file is an error naming it", "[scenario]") {

@@ -1,6 +1,6 @@
 /// @file summaries.cpp
 
-#include "summaries.hpp"
+#include "harness/summaries.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include "cloth/integrator.hpp"
 #include "harness/csv_writer.hpp"
 
-namespace clothbench::cli {
+namespace clothbench {
 
 std::string run_summary(const RunResult& result) {
   std::ostringstream out;
@@ -44,4 +44,4 @@ std::string stability_summary(const std::vector<StabilityRow>& rows) {
   return out.str();
 }
 
-}  // namespace clothbench::cli
+}  // namespace clothbench

@@ -1,8 +1,8 @@
 #pragma once
 /// @file summaries.hpp
-/// The summary tables the commands print on stdout (CSV with a header line). The command line
-/// is the one place that formats them; accuracy_summary (harness/accuracy_sweep) and
-/// format_gates (harness/regression_check) are still to move here.
+/// The summary tables the commands print on stdout. The harness formats every summary (these
+/// two, accuracy_summary beside the accuracy sweep and format_gates beside the gate); the
+/// command line only prints them.
 
 #include <string>
 #include <vector>
@@ -10,7 +10,7 @@
 #include "harness/runner.hpp"
 #include "harness/stability_sweep.hpp"
 
-namespace clothbench::cli {
+namespace clothbench {
 
 /// `clothbench run`: per engine its integrator (or kind), dt, whether it stayed stable, cost
 /// per step, largest energy error and final RMS distance from the reference.
@@ -20,4 +20,4 @@ std::string run_summary(const RunResult& result);
 /// "none" where no stable dt was found or nothing failed up to --dt-max.
 std::string stability_summary(const std::vector<StabilityRow>& rows);
 
-}  // namespace clothbench::cli
+}  // namespace clothbench
