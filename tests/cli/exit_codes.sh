@@ -5,19 +5,7 @@
 # Usage: exit_codes.sh CLOTHBENCH SOURCE_DIR WORK_DIR VERSION
 set -u
 clothbench=$1 source=$2 work=$3 version=$4
-rm -rf "$work"
-mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-
-# expect STATUS COMMAND...: runs the command, keeps its stdout and stderr in $work
-expect() {
-  local want=$1
-  shift
-  "$@" >"$work/stdout" 2>"$work/stderr"
-  local got=$?
-  [ "$got" -eq "$want" ] || fail "expected exit $want, got $got: $* ($(head -c 300 "$work/stderr"))"
-}
+source "$(dirname "$0")/expect.sh"
 one_line() { [ "$(wc -l <"$work/stderr")" -eq 1 ] || fail "$1: expected one line on stderr: $(cat "$work/stderr")"; }
 
 # 0: --help on every command, --version with the version CMake built

@@ -4,19 +4,7 @@
 # Usage: exit_codes_and_no_partial_output.sh CLOTHBENCH SOURCE_DIR WORK_DIR
 set -u
 clothbench=$1 source=$2 work=$3
-rm -rf "$work"
-mkdir -p "$work"
-failures=0
-fail() { echo "FAIL: $*" >&2; failures=$((failures + 1)); }
-
-# expect STATUS COMMAND...: runs the command, keeps its stderr in $work/stderr
-expect() {
-  local want=$1
-  shift
-  "$@" >"$work/stdout" 2>"$work/stderr"
-  local got=$?
-  [ "$got" -eq "$want" ] || fail "expected exit $want, got $got: $* ($(head -c 300 "$work/stderr"))"
-}
+source "$(dirname "$0")/expect.sh"
 
 # a malformed scenario: exit 2, one line naming file:line: key, no output folder
 bad=$source/tests/data/bad/dt_zero.toml
