@@ -34,7 +34,14 @@ int execute_run(RunArgs a) {
   if (!a.quiet)
     std::cerr << "wrote " << a.out
               << "/{frames,divergence,snapshots,summary}.csv, scenario.toml, run.json\n";
-  std::cout << run_summary(result);
+  std::cout << run_summary(result) << std::flush;
+  // what the table's numbers are in, and where to look next (stderr: stdout stays a CSV)
+  if (!a.quiet)
+    std::cerr << "units: dt in s, us_per_step in microseconds of wall time, max_energy_error in "
+                 "J, final_rms_vs_reference in m (RMS particle distance from "
+              << sc.reference << " at the end)\n"
+              << "next: clothbench report " << a.out
+              << "   (plots and report.html of this run)\n";
   return kExitOk;
 }
 
