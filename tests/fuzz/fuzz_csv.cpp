@@ -1,0 +1,12 @@
+/// @file fuzz_csv.cpp
+/// libFuzzer target: clothbench::fuzz::csv_file (see fuzz_entries.hpp). Built by the fuzz preset.
+
+#include <cstddef>
+#include <cstdint>
+
+#include "fuzz_entries.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  clothbench::fuzz::csv_file(data, size);
+  return 0;
+}

@@ -1,0 +1,75 @@
+#include "fuzz_entries.hpp"
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "harness/csv_reader.hpp"
+#include "harness/scenario_loader.hpp"
+#include "harness/user_error.hpp"
+
+namespace clothbench::fuzz {
+
+namespace {
+
+std::string text_of(const std::uint8_t* data, std::size_t size) {
+  return std::string(reinterpret_cast<const char*>(data), size);
+}
+
+}  // namespace
+
+void scenario_text(const std::uint8_t* data, std::size_t size) {
+  try {
+    parse_scenario(text_of(data, size), "fuzz.toml");
+  } catch (const UserError&) {
+    // refused with a message: what a bad file must give
+  }
+}
+
+void overrides(const std::uint8_t* data, std::size_t size) {
+  std::vector<std::string> lines;
+  std::istringstream in(text_of(data, size));
+  for (std::string line; std::getline(in, line) && lines.size() < 8;) lines.push_back(line);
+  try {
+    parse_scenario(embedded_default_scenario(), "seed.toml", lines);
+  } catch (const UserError&) {
+  }
+}
+
+void csv_file(const std::uint8_t* data, std::size_t size) {
+  // the reader takes a path: one scratch file per process, rewritten for every input
+  static const std::string path = (std::filesystem::temp_directory_path() /
+                                   ("clothbench-fuzz-" + std::to_string(::getpid()) + ".csv"))
+                                      .string();
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  try {
+    const CsvTable table = read_csv_leniently(path);
+    for (const CsvRecord& r : table.records)
+      for (std::size_t c = 0; c < r.size(); ++c) {
+        try {
+          r.number(c, 0.0);
+        } catch (const UserError&) {
+        }
+        try {
+          r.integer(c);
+        } catch (const UserError&) {
+        }
+      }
+    if (!table.header.empty()) read_csv(path, table.header);
+  } catch (const UserError&) {
+  }
+}
+
+const std::vector<std::pair<std::string, Entry>>& entries() {
+  static const std::vector<std::pair<std::string, Entry>> all = {
+      {"scenario", scenario_text}, {"overrides", overrides}, {"csv", csv_file}};
+  return all;
+}
+
+}  // namespace clothbench::fuzz
