@@ -78,7 +78,7 @@ void prepare_folder(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& 
     if (it != earlier_refs.end()) plan.reference.error_floor = it->second.number(5, kNaN);
   }
   std::vector<std::string> stale;
-  if (o.tolerance <= 0) stale = {"recommendation.csv", "resolution_recommendation.csv"};
+  if (!(o.tolerance > 0)) stale = {"recommendation.csv", "resolution_recommendation.csv"};
   if (plan.grids.empty())
     stale.insert(stale.end(), {"resolution.csv", "resolution_recommendation.csv"});
   for (const std::string& f : stale) std::filesystem::remove(dir + f);
@@ -271,10 +271,15 @@ void run_references(const Scenes& scenes, ReferenceJobs& refs, int jobs, Progres
   for (const RefJob& j : refs.jobs) {
     if (j.run.stable) continue;
     const Scenario& s = scenes.scenario(j.grid);
-    throw UserError("the reference (rk4 at dt = " + format_double(j.spec.dt) + " s on " +
-                    grid_name(s.scene.cloth.nu, s.scene.cloth.nv) + " particles) blew up at t = " +
-                    format_double(j.run.blowup_t) + " s: " + scenes.sc.source +
-                    " is not stable even so; sweep smaller time steps (--dts)");
+    const std::string what = "the reference (rk4 at dt = " + format_double(j.spec.dt) +
+                             " s on " + grid_name(s.scene.cloth.nu, s.scene.cloth.nv) +
+                             " particles)";
+    if (j.run.timed_out)
+      throw UserError(what + " did not finish within --max-run-seconds " +
+                      format_double(s.max_run_seconds) +
+                      " s; allow it more time or sweep larger time steps (--dts)");
+    throw UserError(what + " blew up at t = " + format_double(j.run.blowup_t) + " s: " +
+                    scenes.sc.source + " is not stable even so; sweep smaller time steps (--dts)");
   }
 }
 
@@ -370,7 +375,7 @@ void report(const AccuracyPlan& plan, const AccuracyOptions& o, AccuracyReport& 
   report.convergence = fit_convergence(report.rows, report.reference.error_floor);
   write_convergence(dir + "convergence.csv", report.convergence);
   report.files.push_back(dir + "convergence.csv");
-  if (o.tolerance <= 0) return;
+  if (!(o.tolerance > 0)) return;
   // the cheapest configuration within the tolerance, per engine and overall
   report.recommendations =
       recommend_all(report.rows, plan.engine_names, o.tolerance, &AccuracyRow::error_max);

@@ -410,6 +410,7 @@ CheckPlan plan_check(const std::string& scenario_path, const CheckOptions& o) {
         "the very change it should catch; drop the --set overrides, or add --record-perturbed "
         "if a perturbed baseline is what you mean");
   CheckPlan plan{load_scenario(scenario_path, o.overrides), {}, {}};
+  plan.sc.max_run_seconds = o.max_run_seconds;
   plan.dir = fs::path(o.baseline_dir) / plan.sc.name;
   const fs::path tol_path = plan.dir / "tolerances.toml";
   if (o.update && !fs::exists(tol_path)) {

@@ -28,6 +28,7 @@ struct CheckOptions {
   bool record_perturbed = false;       // with update and overrides: record them anyway
   bool progress = true;
   int jobs = 1;  // threads for the stability searches
+  double max_run_seconds = 0;  // s per engine run before it stops as a timeout (0: none)
 };
 
 /// One gated quantity.

@@ -51,7 +51,8 @@ class Search {
   void shrink(long long n0) {
     StabilityBracket& b = m_bracket;
     unstable(n0);
-    for (int k = 0; k < kMaxHalvings; ++k) {
+    // a smaller dt only takes longer: after a timeout the search ends with no stable dt
+    for (int k = 0; k < kMaxHalvings && m_cause != "timeout"; ++k) {
       if (stable(2 * b.n_unstable)) {
         b.n_stable = 2 * b.n_unstable;
         return;
@@ -117,7 +118,9 @@ bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause) {
   const cloth::Model model = cloth::build_model(s.scene);
   const EngineRun run = run_engine(s, e, model, nullptr, false);
   if (!run.stable && cause)
-    *cause = std::isfinite(run.frames.back().max_strain) ? "strain" : "non-finite";
+    *cause = run.timed_out ? "timeout"
+             : std::isfinite(run.frames.back().max_strain) ? "strain"
+                                                           : "non-finite";
   return run.stable;
 }
 

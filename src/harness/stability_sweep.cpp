@@ -96,9 +96,14 @@ StepGrid step_grid(const Scenario& sc, const StabilityOptions& o) {
 /// Why the search ended where it did: what failed (or why nothing did), the limiting mode of
 /// the theory, and where the search had to start.
 std::string cause_of(const StabilityConfig& c, const StabilityBracket& b, const StepGrid& grid,
-                     const cloth::LinearSpectrum& spectrum, double predicted_dt, double dt_max) {
+                     const cloth::LinearSpectrum& spectrum, double predicted_dt, double dt_max,
+                     double sc_max_run_seconds) {
   std::string cause;
-  if (b.n_stable == 0)
+  if (b.n_stable == 0 && b.unstable_cause == "timeout")
+    cause = "timeout at dt = " + format_double(grid.dt(b.n_unstable)) +
+            " s (--max-run-seconds " + format_double(sc_max_run_seconds) +
+            " s): no stable dt found";
+  else if (b.n_stable == 0)
     cause = b.unstable_cause + " at every dt tried down to " +
             format_double(grid.dt(b.n_unstable)) + " s (the engine's dt / 2^" +
             std::to_string(kMaxHalvings) + "): no stable dt found";
@@ -135,7 +140,7 @@ StabilityRow measure(const Scenario& sc, const StabilityConfig& c, const Stabili
   if (b.n_unstable > 0) row.rerun_unstable = stability_rerun(sc, spec(b.n_unstable));
   if (c.engine.kind == EngineKind::custom)
     row.predicted_dt = cloth::predicted_stable_dt(c.engine.solver.integrator, spectrum);
-  row.cause = cause_of(c, b, grid, spectrum, row.predicted_dt, dt_max);
+  row.cause = cause_of(c, b, grid, spectrum, row.predicted_dt, dt_max, sc.max_run_seconds);
   // a ratio only between two limits: a bound or a missing measurement gives none
   if (b.n_stable > 0 && b.n_unstable > 0 && std::isfinite(row.predicted_dt))
     row.ratio = row.stable_dt / row.predicted_dt;

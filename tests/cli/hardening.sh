@@ -1,0 +1,62 @@
+#!/usr/bin/env bash
+# The hardening of issue 14 on the command line: a wall-clock budget per run (--max-run-seconds)
+# that stops a run as a timeout and lets a sweep go on, a second Ctrl-C that ends at once, an
+# output folder that one command holds at a time, and messages that say what is wrong.
+# Usage: hardening.sh CLOTHBENCH SOURCE_DIR WORK_DIR
+set -u
+clothbench=$1 source=$2 work=$3
+source "$(dirname "$0")/expect.sh"
+seed=$source/scenarios/seed_sphere_drape.toml
+has() { grep -q -- "$2" "$work/$1" || fail "$3: no \"$2\" in $1: $(head -c 400 "$work/$1")"; }
+
+# class 9: readable ranges (no 300-digit bound), an unknown command named, nan refused
+expect 2 "$clothbench" stability --dt-max -1
+has stderr '--dt-max: expected a finite number > 0, got "-1"' "--dt-max -1"
+[ "$(wc -c <"$work/stderr")" -lt 200 ] || fail "--dt-max -1: message too long: $(cat "$work/stderr")"
+expect 2 "$clothbench" accuracy --halvings 0
+has stderr '--halvings: expected a whole number' "--halvings 0"
+expect 2 "$clothbench" accuracy "$seed" -o "$work/nan" --tolerance nan
+has stderr '--tolerance: expected a finite number > 0, got "nan"' "--tolerance nan"
+expect 2 "$clothbench" stability --dt-max nan
+has stderr '--dt-max: expected a finite number > 0, got "nan"' "--dt-max nan"
+expect 2 "$clothbench" frobnicate
+has stderr 'unknown command "frobnicate"; the commands are run, stability, accuracy, check' \
+  "unknown command"
+expect 2 "$clothbench" run --max-run-seconds 0
+has stderr '--max-run-seconds: expected a finite number > 0' "--max-run-seconds 0"
+
+# class 2: a run over its budget stops as a timeout (stable 0, no blow-up time), exit 0
+expect 0 "$clothbench" run "$seed" -o "$work/timeout" -q --max-run-seconds 0.2
+has stdout '^custom-rk4,rk4,0.0001,timeout,' "run timeout"
+awk -F, 'NR > 1 && !($9 == 0 && $10 == "") { bad = 1 } END { exit bad }' \
+  "$work/timeout/summary.csv" || fail "run timeout: summary.csv rows not stable=0 with empty blowup_t"
+# ... and a stability search records it as the cause and goes on to the next configuration
+expect 0 "$clothbench" stability "$seed" -o "$work/stab" -q -j 1 -e custom-rk4 -i rk4 -i \
+  symplectic-euler --max-run-seconds 0.05
+[ "$(grep -c '^custom-rk4,.*timeout at dt' "$work/stab/stability.csv")" -eq 2 ] ||
+  fail "stability timeout: no two timeout rows: $(cat "$work/stab/stability.csv")"
+
+# class 2: a second Ctrl-C ends at once, with exit 130 and no output
+"$clothbench" run "$seed" -o "$work/twice" -q >/dev/null 2>&1 &
+pid=$!
+sleep 1
+kill -INT "$pid"
+kill -INT "$pid"
+wait "$pid"
+got=$?
+[ "$got" -eq 130 ] || fail "second Ctrl-C: expected exit 130, got $got"
+[ -z "$(ls "$work/twice" 2>/dev/null | grep -v '^\.')" ] || fail "second Ctrl-C: output written"
+
+# class 6: a second command on a folder in use fails at once, naming the folder and the first
+"$clothbench" run "$seed" -o "$work/busy" -q >/dev/null 2>&1 &
+pid=$!
+for _ in $(seq 50); do [ -s "$work/busy/.clothbench.lock" ] && break; sleep 0.1; done
+expect 2 "$clothbench" stability "$seed" -o "$work/busy" -q
+has stderr "output folder $work/busy is in use by another clothbench command (pid $pid: .*run" \
+  "second command"
+kill -INT "$pid"
+wait "$pid"
+[ ! -e "$work/busy" ] || fail "interrupted run: its new folder is left behind: $(ls -a "$work/busy")"
+
+echo "hardening: $failures failed checks"
+[ "$failures" -eq 0 ]
