@@ -55,7 +55,9 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
     FrameMetrics m =
         frame_metrics(model, t, sim->positions(), sim->velocities(), sim->dissipated(), e0);
     m.stable = stable;
-    if (stable) run.max_energy_error = std::max(run.max_energy_error, std::abs(m.energy_error));
+    // a NaN energy error sticks (std::max would drop it and let the gate pass)
+    if (stable && !(std::abs(m.energy_error) <= run.max_energy_error))
+      run.max_energy_error = std::abs(m.energy_error);
     run.frames.push_back(m);
     if (keep_positions) run.positions.push_back(sim->positions());
   };
