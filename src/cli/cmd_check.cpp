@@ -29,7 +29,11 @@ int execute_check(CheckArgs a) {
   if (a.paths.empty()) a.paths = shipped_scenarios();
   // --update writes the baselines: one command at a time
   std::unique_ptr<OutputLock> lock;
-  if (o.update) lock = std::make_unique<OutputLock>(o.baseline_dir);
+  PendingBaselines pending;  // all scenarios' new baselines appear together, or none
+  if (o.update) {
+    lock = std::make_unique<OutputLock>(o.baseline_dir);
+    o.pending = &pending;
+  }
   std::vector<Gate> all;
   for (const std::string& p : a.paths) {
     const std::vector<Gate> g = check_scenario(p, o);
@@ -37,6 +41,7 @@ int execute_check(CheckArgs a) {
   }
   const long failed = std::count_if(all.begin(), all.end(), [](const Gate& g) { return !g.pass; });
   if (o.update) {
+    pending.commit();
     std::cout << (all.empty() ? std::string("baselines recorded; nothing changed\n")
                               : "baselines recorded; what changed:\n" + format_gates(all));
     return kExitOk;

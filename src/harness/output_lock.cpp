@@ -57,12 +57,12 @@ OutputLock::OutputLock(const std::string& dir)
     m_fd = -1;
   }
   if (m_fd < 0) throw UserError("cannot lock output folder " + dir);
+  // who holds it, for the message of a second command: best effort (the lock is the flock,
+  // and a full disk is for the command's own files to report)
   const std::string text = holder_text();
-  if (::ftruncate(m_fd, 0) != 0 || ::write(m_fd, text.data(), text.size()) < 0) {
-    const std::string why = std::strerror(errno);
-    ::close(m_fd);
-    throw UserError("cannot write " + m_path + ": " + why);
-  }
+  const bool written = ::ftruncate(m_fd, 0) == 0 &&
+                       ::write(m_fd, text.data(), text.size()) == ssize_t(text.size());
+  (void)written;
 }
 
 OutputLock::~OutputLock() {

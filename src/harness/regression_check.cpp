@@ -301,17 +301,17 @@ std::string engine_of(const std::string& key) {
 }
 
 void write_baseline(const fs::path& dir, const RunResult& result,
-                    const std::vector<StabilityRow>* stability) {
+                    const std::vector<StabilityRow>* stability, PendingBaselines& pending) {
   make_directories(dir.string());
-  CsvWriter metrics((dir / "metrics.csv").string(), kMetricsHeader);
+  auto metrics = std::make_unique<CsvWriter>((dir / "metrics.csv").string(), kMetricsHeader);
   for (size_t i = 0; i < result.runs.size(); ++i)
     for (const auto& [q, v] : run_metrics(result, i))
-      metrics.add(result.runs[i].spec.name).add(q).add(v).end_row();
-  CsvWriter shape((dir / "shape.csv").string(), kShapeHeader);
+      metrics->add(result.runs[i].spec.name).add(q).add(v).end_row();
+  auto shape = std::make_unique<CsvWriter>((dir / "shape.csv").string(), kShapeHeader);
   for (const EngineRun& run : result.runs) {
     const cloth::Matrix3X& x = run.snapshots.back();
     for (Eigen::Index p = 0; p < x.cols(); ++p)
-      shape.add(run.spec.name)
+      shape->add(run.spec.name)
           .add(int(p % result.model.nu))
           .add(int(p / result.model.nu))
           .add(x(0, p))
@@ -319,16 +319,16 @@ void write_baseline(const fs::path& dir, const RunResult& result,
           .add(x(2, p))
           .end_row();
   }
-  metrics.commit();
-  shape.commit();
+  pending.add(std::move(metrics));
+  pending.add(std::move(shape));
   if (stability) {
-    CsvWriter st((dir / "stability.csv").string(), kStabilityHeader);
+    auto st = std::make_unique<CsvWriter>((dir / "stability.csv").string(), kStabilityHeader);
     for (const StabilityRow& r : *stability)
-      st.add(r.engine).add(r.integrator).add(r.stable_dt).add(r.first_unstable_dt).end_row();
-    st.commit();
+      st->add(r.engine).add(r.integrator).add(r.stable_dt).add(r.first_unstable_dt).end_row();
+    pending.add(std::move(st));
   } else {
     // limits no longer searched must not linger as a baseline nobody checks
-    fs::remove(dir / "stability.csv");
+    pending.remove_on_commit((dir / "stability.csv").string());
   }
 }
 
@@ -495,7 +495,7 @@ CheckRun run_check(const CheckPlan& plan, const CheckOptions& o) {
 }
 
 /// --update: records the baseline and reports what changed against the previous one.
-std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now) {
+std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now, const CheckOptions& o) {
   const Metrics old_metrics =
       fs::exists(plan.metrics_path()) ? read_metrics(plan.metrics_path()) : Metrics();
   Shapes old_shapes;
@@ -508,7 +508,10 @@ std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now) {
   }
   const Brackets old_brackets =
       fs::exists(plan.stability_path()) ? read_brackets(plan.stability_path()) : Brackets();
-  write_baseline(plan.dir, now.result, plan.tol.stability ? &now.stability : nullptr);
+  PendingBaselines own;
+  write_baseline(plan.dir, now.result, plan.tol.stability ? &now.stability : nullptr,
+                 o.pending ? *o.pending : own);
+  own.commit();
   std::vector<Gate> gates =
       changes(plan.sc.name, old_metrics, old_shapes, old_brackets, now.result, now.brackets);
   if (!grid_changed.empty())
@@ -685,7 +688,14 @@ std::vector<Gate> compare(const CheckPlan& plan, const CheckRun& now) {
 std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOptions& o) {
   const CheckPlan plan = plan_check(scenario_path, o);
   const CheckRun now = run_check(plan, o);
-  return o.update ? record(plan, now) : compare(plan, now);
+  return o.update ? record(plan, now, o) : compare(plan, now);
+}
+
+void PendingBaselines::commit() {
+  for (const std::unique_ptr<CsvWriter>& f : m_files) f->commit();
+  for (const std::string& path : m_removals) fs::remove(path);
+  m_files.clear();
+  m_removals.clear();
 }
 
 std::string format_gates(const std::vector<Gate>& gates) {

@@ -58,5 +58,18 @@ kill -INT "$pid"
 wait "$pid"
 [ ! -e "$work/busy" ] || fail "interrupted run: its new folder is left behind: $(ls -a "$work/busy")"
 
+# class 7: check --update is all or nothing: a scenario that fails leaves every baseline as it was
+mkdir -p "$work/baselines"
+cp -r "$source/reference/baselines/free_fall" "$source/reference/baselines/hanging_chain" \
+  "$work/baselines/"
+echo "custom-rk4,steps,0" >>"$work/baselines/free_fall/metrics.csv"  # an update would change it
+cp "$work/baselines/free_fall/metrics.csv" "$work/free_fall_metrics.csv"
+sed -i '/^steps = /d' "$work/baselines/hanging_chain/tolerances.toml"
+expect 2 "$clothbench" check --update -q -b "$work/baselines" "$source/scenarios/free_fall.toml" \
+  "$source/scenarios/hanging_chain.toml"
+has stderr "hanging_chain/tolerances.toml: no tolerance for steps" "check --update, bad tolerances"
+cmp -s "$work/baselines/free_fall/metrics.csv" "$work/free_fall_metrics.csv" ||
+  fail "check --update that failed on its second scenario rewrote the first one's baseline"
+
 echo "hardening: $failures failed checks"
 [ "$failures" -eq 0 ]
