@@ -52,6 +52,7 @@ int execute_accuracy(AccuracyArgs a) {
   Scenario sc = load_or_seed(a.scenario_path, a.overrides, o.engines);
   sc.max_run_seconds = a.max_run_seconds;
   if (o.out_dir.empty()) o.out_dir = "out/" + sc.name + "-accuracy";
+  refuse_overwriting_input(a.scenario_path, o.out_dir, "scenario.toml");
   const OutputLock lock(o.out_dir);
   const AccuracyReport report = run_accuracy(sc, o);
   std::cout << accuracy_summary(report) << std::flush;

@@ -30,6 +30,7 @@ int execute_run(RunArgs a) {
   Scenario sc = load_or_seed(a.scenario_path, a.overrides, a.engines);
   sc.max_run_seconds = a.max_run_seconds;
   if (a.out.empty()) a.out = "out/" + sc.name;
+  refuse_overwriting_input(a.scenario_path, a.out, "scenario.toml");
   const OutputLock lock(a.out);
   RunOptions options;
   options.engines = a.engines;

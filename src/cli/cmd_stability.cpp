@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "harness/output_lock.hpp"
+#include "harness/stability_files.hpp"
 #include "option_checks.hpp"
 #include "harness/stability_sweep.hpp"
 #include "scenario_input.hpp"
@@ -31,6 +32,7 @@ int execute_stability(StabilityArgs a) {
   Scenario sc = load_or_seed(a.scenario_path, a.overrides, o.engines);
   sc.max_run_seconds = a.max_run_seconds;
   if (o.out_dir.empty()) o.out_dir = "out/" + sc.name;
+  refuse_overwriting_input(a.scenario_path, o.out_dir, kStabilitySidecar);
   const OutputLock lock(o.out_dir);
   const std::vector<StabilityRow> rows = run_stability(sc, o);
   std::cout << stability_summary(rows) << std::flush;

@@ -77,8 +77,10 @@ void prepare_folder(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& 
     auto it = earlier_refs.find("dt");
     if (it != earlier_refs.end()) plan.reference.error_floor = it->second.number(5, kNaN);
   }
-  std::vector<std::string> stale;
-  if (!(o.tolerance > 0)) stale = {"recommendation.csv", "resolution_recommendation.csv"};
+  // what the report derives from the rows goes until the report writes it again, so that
+  // a sweep that stops early never leaves an older sweep's fits beside its rows
+  std::vector<std::string> stale = {"convergence.csv", "recommendation.csv",
+                                    "resolution_recommendation.csv"};
   if (plan.grids.empty())
     stale.insert(stale.end(), {"resolution.csv", "resolution_recommendation.csv"});
   for (const std::string& f : stale) std::filesystem::remove(dir + f);
@@ -389,9 +391,12 @@ void report(const AccuracyPlan& plan, const AccuracyOptions& o, AccuracyReport& 
   report.files.push_back(dir + "resolution_recommendation.csv");
 }
 
-}  // namespace
+/// The files a sweep writes into its folder.
+const std::vector<std::string> kAccuracyFiles = {
+    "scenario.toml",  "run.json",           "reference.csv",      "work_precision.csv",
+    "resolution.csv", "convergence.csv",    "recommendation.csv", "resolution_recommendation.csv"};
 
-AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
+AccuracyReport sweep(const Scenario& sc, const AccuracyOptions& o) {
   // plan: every configuration and reference, and the folder they go in
   AccuracyPlan plan = plan_accuracy(sc, o);
   const std::string dir = o.out_dir + "/";
@@ -424,6 +429,23 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
   if (!plan.grids.empty()) result.files.push_back(dir + "resolution.csv");
   report(plan, o, result);
   return result;
+}
+
+}  // namespace
+
+AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
+  std::vector<std::string> created;  // files of the sweep not in the folder before it
+  for (const std::string& f : kAccuracyFiles)
+    if (!std::filesystem::exists(o.out_dir + "/" + f)) created.push_back(o.out_dir + "/" + f);
+  try {
+    return sweep(sc, o);
+  } catch (const UserError&) {
+    // a sweep refused (bad options, a reference that blows up) leaves nothing it created;
+    // an interrupted one keeps its rows for --resume
+    std::error_code ec;
+    for (const std::string& f : created) std::filesystem::remove(f, ec);
+    throw;
+  }
 }
 
 }  // namespace clothbench

@@ -20,7 +20,8 @@ class SweepTable {
  public:
   /// Opens path. With resume, rows already in the file (same header, as many fields) are kept
   /// and done() reports them; otherwise the file is started anew. Throws UserError naming the
-  /// file when it cannot be written or its header differs.
+  /// file when it cannot be written or its header differs, and the line of a second row with
+  /// the same key.
   SweepTable(std::string path, std::vector<std::string> header, int key_columns, bool resume);
   ~SweepTable();
   SweepTable(const SweepTable&) = delete;

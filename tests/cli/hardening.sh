@@ -71,5 +71,31 @@ has stderr "hanging_chain/tolerances.toml: no tolerance for steps" "check --upda
 cmp -s "$work/baselines/free_fall/metrics.csv" "$work/free_fall_metrics.csv" ||
   fail "check --update that failed on its second scenario rewrote the first one's baseline"
 
+# class 8: an input is never overwritten: -o set to the scenario's own folder is refused
+chain=$source/scenarios/hanging_chain.toml
+mkdir -p "$work/own"
+cp "$chain" "$work/own/scenario.toml"
+echo "# the user's own comment" >>"$work/own/scenario.toml"
+cp "$work/own/scenario.toml" "$work/own_copy.toml"
+expect 2 "$clothbench" run "$work/own/scenario.toml" -o "$work/own" -q
+has stderr "$work/own/scenario.toml is the scenario file .* itself" "run -o its own folder"
+expect 2 "$clothbench" accuracy "$work/own/scenario.toml" -o "$work/own" -q
+cmp -s "$work/own/scenario.toml" "$work/own_copy.toml" || fail "the scenario file was overwritten"
+# ... a duplicated row in a resumed CSV is refused, naming its line
+expect 0 "$clothbench" stability "$chain" -o "$work/dup" -q -j 1 -e custom-rk4 -i symplectic-euler
+sed -n 2p "$work/dup/stability.csv" >>"$work/dup/stability.csv"
+expect 2 "$clothbench" stability "$chain" -o "$work/dup" -q -j 1 -e custom-rk4 -i symplectic-euler \
+  --resume
+has stderr "dup/stability.csv:3: cannot resume: a second row for custom-rk4,symplectic-euler" \
+  "duplicated row"
+# ... an accuracy sweep that stops with exit 2 (its reference blows up) leaves nothing it made,
+# and no fits of an older sweep beside its rows
+expect 2 "$clothbench" accuracy "$chain" -o "$work/acc" -q -j 1 --set blowup_strain=1e-12
+[ ! -e "$work/acc" ] || fail "failed accuracy sweep left $(ls -a "$work/acc")"
+mkdir -p "$work/acc2"
+echo "engine,integrator,order,points" >"$work/acc2/convergence.csv"
+expect 2 "$clothbench" accuracy "$chain" -o "$work/acc2" -q -j 1 --set blowup_strain=1e-12
+[ ! -e "$work/acc2/convergence.csv" ] || fail "an older sweep's convergence.csv was left"
+
 echo "hardening: $failures failed checks"
 [ "$failures" -eq 0 ]
