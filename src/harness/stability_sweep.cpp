@@ -11,6 +11,7 @@
 #include "harness/engine_factory.hpp"
 #include "harness/progress.hpp"
 #include "harness/runner.hpp"
+#include "harness/scenario_format.hpp"
 #include "harness/stability_files.hpp"
 #include "harness/stability_search.hpp"
 #include "harness/sweep_table.hpp"
@@ -38,6 +39,16 @@ void check_options(const StabilityOptions& o) {
   if (o.out_dir.empty()) throw UserError("stability: no output folder given");
   if (!(o.dt_max > 0)) throw UserError("--dt-max: expected a time step > 0");
   if (!(o.rel_tol > 0)) throw UserError("--rel-tol: expected a number > 0");
+}
+
+/// Throws UserError naming --dt-max when every run would take more than kMaxSteps steps.
+void check_step_count(const Scenario& sc, const StabilityOptions& o) {
+  const double steps = stability_horizon(sc) / o.dt_max;
+  if (!(steps <= kMaxSteps))
+    throw UserError("--dt-max " + format_double(o.dt_max) + ": every run would take at least " +
+                    format_double(steps) + " steps of the " +
+                    format_double(stability_horizon(sc)) + " s horizon, more than " +
+                    format_double(kMaxSteps) + "; expected a larger --dt-max");
 }
 
 bool selected(const std::vector<std::string>& names, const std::string& name) {
@@ -160,6 +171,7 @@ StabilityBracket search(const Scenario& sc, const StabilityConfig& c, const Step
 std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptions& o) {
   // plan: what to search, in which folder, on which step grid
   check_options(o);
+  check_step_count(sc, o);
   const std::vector<StabilityConfig> configs = plan_configs(sc, o);
   const std::string dir = prepare_folder(sc, o);
   SweepTable table(dir + "stability.csv", stability_header(), 2, o.resume);

@@ -97,5 +97,16 @@ echo "engine,integrator,order,points" >"$work/acc2/convergence.csv"
 expect 2 "$clothbench" accuracy "$chain" -o "$work/acc2" -q -j 1 --set blowup_strain=1e-12
 [ ! -e "$work/acc2/convergence.csv" ] || fail "an older sweep's convergence.csv was left"
 
+# class 3: a sweep whose runs would take more than 1e9 steps is refused, naming the option
+expect 2 "$clothbench" stability "$chain" -o "$work/steps1" -q --dt-max 1e-300
+has stderr "^clothbench: --dt-max 1e-300: every run would take at least 3e+300 steps" "--dt-max 1e-300"
+expect 2 "$clothbench" accuracy "$chain" -o "$work/steps2" -q --dts 1e-12
+has stderr "dt = 1e-12 s would take duration / dt = 3000000000000 steps, more than" "--dts 1e-12"
+expect 2 "$clothbench" accuracy "$chain" -o "$work/steps3" -q --halvings 40
+has stderr "fewer --halvings" "--halvings 40"
+expect 2 "$clothbench" accuracy "$chain" -o "$work/steps4" -q --halvings 1000000
+has stderr "^clothbench: --halvings 1000000: expected at most 60" "--halvings 1000000"
+for d in steps1 steps2 steps3 steps4; do [ ! -e "$work/$d" ] || fail "refused sweep left $d"; done
+
 echo "hardening: $failures failed checks"
 [ "$failures" -eq 0 ]
