@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
     const auto on_signal = [](int) {
       if (interrupt_requested().exchange(true)) std::_Exit(kExitInterrupted);
     };
+    interrupt_requested() = false;  // its static is made here, never first in a handler
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     throw_if_internal_error_requested();

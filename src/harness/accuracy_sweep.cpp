@@ -335,7 +335,9 @@ AccuracyRow measure(const AccuracyPlan& plan, const AccuracyConfig& c, const Tim
     if (run.stable) row.error_max = 0;
     for (size_t k = 0; run.stable && k < run.positions.size(); ++k) {
       row.error_final = rms_distance(run.positions[k], ref.positions[k]);
-      if (!(row.error_final <= row.error_max)) row.error_max = row.error_final;  // NaN sticks
+      // a NaN sticks (std::max would drop it)
+      if (!std::isnan(row.error_max) && !(row.error_final <= row.error_max))
+        row.error_max = row.error_final;
     }
   } else {
     const int n = plan.sizes[size_t(c.grid)], nr = plan.sizes.back();

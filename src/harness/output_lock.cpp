@@ -31,19 +31,22 @@ std::string holder_text() {
 /// True when fd is still the file at path (a lock on a file unlinked by its previous holder
 /// guards nothing).
 bool same_file(int fd, const std::string& path) {
-  struct stat a {}, b {};
+  struct stat a {
+  }, b{};
   return ::fstat(fd, &a) == 0 && ::stat(path.c_str(), &b) == 0 && a.st_ino == b.st_ino &&
          a.st_dev == b.st_dev;
 }
 
 }  // namespace
 
-OutputLock::OutputLock(const std::string& dir)
-    : m_dir(dir), m_path(dir + "/" + kLockFileName), m_created(!std::filesystem::exists(dir)) {
+OutputLock::OutputLock(const std::string& dir) : m_dir(dir), m_path(dir + "/" + kLockFileName) {
+  std::error_code ec;
+  m_created = !std::filesystem::exists(dir, ec) && !ec;
   make_directories(dir);
   for (int attempt = 0; attempt < 10; ++attempt) {
     m_fd = ::open(m_path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (m_fd < 0) throw UserError("cannot write in output folder " + dir + ": " + std::strerror(errno));
+    if (m_fd < 0)
+      throw UserError("cannot write in output folder " + dir + ": " + std::strerror(errno));
     if (::flock(m_fd, LOCK_EX | LOCK_NB) != 0) {
       std::string holder = read_text(m_path);
       while (!holder.empty() && holder.back() == '\n') holder.pop_back();
@@ -60,8 +63,8 @@ OutputLock::OutputLock(const std::string& dir)
   // who holds it, for the message of a second command: best effort (the lock is the flock,
   // and a full disk is for the command's own files to report)
   const std::string text = holder_text();
-  const bool written = ::ftruncate(m_fd, 0) == 0 &&
-                       ::write(m_fd, text.data(), text.size()) == ssize_t(text.size());
+  const bool written =
+      ::ftruncate(m_fd, 0) == 0 && ::write(m_fd, text.data(), text.size()) == ssize_t(text.size());
   (void)written;
 }
 
@@ -70,8 +73,7 @@ OutputLock::~OutputLock() {
   ::unlink(m_path.c_str());
   ::close(m_fd);
   std::error_code ec;
-  if (m_created && std::filesystem::is_empty(m_dir, ec) && !ec)
-    std::filesystem::remove(m_dir, ec);
+  if (m_created && std::filesystem::is_empty(m_dir, ec) && !ec) std::filesystem::remove(m_dir, ec);
 }
 
 }  // namespace clothbench

@@ -56,7 +56,8 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
         frame_metrics(model, t, sim->positions(), sim->velocities(), sim->dissipated(), e0);
     m.stable = stable;
     // a NaN energy error sticks (std::max would drop it and let the gate pass)
-    if (stable && !(std::abs(m.energy_error) <= run.max_energy_error))
+    if (stable && !std::isnan(run.max_energy_error) &&
+        !(std::abs(m.energy_error) <= run.max_energy_error))
       run.max_energy_error = std::abs(m.energy_error);
     run.frames.push_back(m);
     if (keep_positions) run.positions.push_back(sim->positions());

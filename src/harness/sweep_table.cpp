@@ -31,8 +31,9 @@ SweepTable::SweepTable(std::string path, std::vector<std::string> header, int ke
     for (const CsvRecord& r : earlier.records) {
       if (r.size() != m_header.size()) continue;  // not a row of this table
       if (m_index.count(key(r.fields())))
-        throw UserError(m_path + ":" + std::to_string(r.line()) + ": cannot resume: a second row for " +
-                        key(r.fields()) + " (each configuration has one row); remove one of them "
+        throw UserError(m_path + ":" + std::to_string(r.line()) +
+                        ": cannot resume: a second row for " + key(r.fields()) +
+                        " (each configuration has one row); remove one of them "
                         "or run without --resume");
       m_index[key(r.fields())] = m_rows.size();
       m_rows.push_back(r.fields());
