@@ -9,6 +9,8 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "harness/output_lock.hpp"
+#include "option_checks.hpp"
 #include "harness/accuracy_sweep.hpp"
 #include "harness/user_error.hpp"
 #include "scenario_input.hpp"
@@ -20,6 +22,7 @@ struct AccuracyArgs {
   std::string scenario_path;           // empty: the embedded seed scene
   std::vector<std::string> overrides;  // --set KEY=VALUE
   bool quiet = false;
+  double max_run_seconds = 0;  // s, 0: no limit
   std::string dts_text, resolutions_text;  // comma-separated lists, parsed into options
   AccuracyOptions options;                 // out_dir empty: out/<scenario name>-accuracy
 };
@@ -46,8 +49,11 @@ int execute_accuracy(AccuracyArgs a) {
   o.progress = !a.quiet;
   o.dts = parse_list<double>(a.dts_text, "--dts");
   o.resolutions = parse_list<int>(a.resolutions_text, "--resolutions");
-  const Scenario sc = load_or_seed(a.scenario_path, a.overrides, o.engines);
+  Scenario sc = load_or_seed(a.scenario_path, a.overrides, o.engines);
+  sc.max_run_seconds = a.max_run_seconds;
   if (o.out_dir.empty()) o.out_dir = "out/" + sc.name + "-accuracy";
+  refuse_overwriting_input(a.scenario_path, o.out_dir, "scenario.toml");
+  const OutputLock lock(o.out_dir);
   const AccuracyReport report = run_accuracy(sc, o);
   std::cout << accuracy_summary(report) << std::flush;
   return kExitOk;
@@ -79,7 +85,7 @@ Command add_accuracy_command(CLI::App& app) {
       ->add_option("--halvings", o.halvings,
                    "without --dts: this many time steps, halving from each engine's dt")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber)
+      ->check(positive_integer())
       ->excludes(dts_opt);
   accuracy->add_option(
       "--tolerance", o.tolerance,
@@ -89,20 +95,22 @@ Command add_accuracy_command(CLI::App& app) {
       "of the Newton linearisation costs about 3 force evaluations), times particles; Bullet\n"
       "engines, whose work is not counted, the fewest steps x particles; ties go to the smaller\n"
       "error. Overall compares the engines' choices by that count when all are custom, and by\n"
-      "wall time per simulated second when Bullet is among them (wall time stays in the CSV)");
+      "wall time per simulated second when Bullet is among them (wall time stays in the CSV)")
+      ->check(positive_number());
   accuracy->add_option("--resolutions", a->resolutions_text,
                        "square grid sizes to compare at each engine's dt, e.g. 9,13,17,25,33");
   accuracy->add_option("--repeats", o.repeats, "wall time is the median of this many runs")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive_integer());
   accuracy
       ->add_option("--jobs,-j", o.jobs,
                    "runs at once (default: all cores; timings are cleaner with 1)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_integer());
   accuracy->add_flag("--resume", o.resume,
                      "keep the rows already in the output folder and run only the rest");
   accuracy->add_option("--set,-s", a->overrides, "override a scenario key (repeatable)")
       ->allow_extra_args(false);
+  add_max_run_seconds(accuracy, a->max_run_seconds);
   accuracy->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {accuracy, [a] { return execute_accuracy(*a); }, true};
 }

@@ -9,6 +9,8 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "harness/output_lock.hpp"
+#include "option_checks.hpp"
 #include "harness/regression_check.hpp"
 #include "scenario_input.hpp"
 
@@ -25,6 +27,13 @@ int execute_check(CheckArgs a) {
   CheckOptions& o = a.options;
   o.progress = !a.quiet;
   if (a.paths.empty()) a.paths = shipped_scenarios();
+  // --update writes the baselines: one command at a time
+  std::unique_ptr<OutputLock> lock;
+  PendingBaselines pending;  // all scenarios' new baselines appear together, or none
+  if (o.update) {
+    lock = std::make_unique<OutputLock>(o.baseline_dir);
+    o.pending = &pending;
+  }
   std::vector<Gate> all;
   for (const std::string& p : a.paths) {
     const std::vector<Gate> g = check_scenario(p, o);
@@ -32,6 +41,7 @@ int execute_check(CheckArgs a) {
   }
   const long failed = std::count_if(all.begin(), all.end(), [](const Gate& g) { return !g.pass; });
   if (o.update) {
+    pending.commit();
     std::cout << (all.empty() ? std::string("baselines recorded; nothing changed\n")
                               : "baselines recorded; what changed:\n" + format_gates(all));
     return kExitOk;
@@ -68,7 +78,8 @@ Command add_check_command(CLI::App& app) {
                    "override a scenario key in every scenario (repeatable)")
       ->allow_extra_args(false);
   check->add_option("--jobs,-j", o.jobs, "threads for the stability searches")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_integer());
+  add_max_run_seconds(check, o.max_run_seconds);
   check->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {check, [a] { return execute_check(*a); }};
 }

@@ -8,6 +8,8 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "harness/output_lock.hpp"
+#include "option_checks.hpp"
 #include "harness/runner.hpp"
 #include "scenario_input.hpp"
 #include "harness/summaries.hpp"
@@ -21,11 +23,15 @@ struct RunArgs {
   std::vector<std::string> engines;    // empty: every engine
   std::vector<std::string> overrides;  // --set KEY=VALUE
   bool quiet = false;
+  double max_run_seconds = 0;  // s, 0: no limit
 };
 
 int execute_run(RunArgs a) {
-  const Scenario sc = load_or_seed(a.scenario_path, a.overrides, a.engines);
+  Scenario sc = load_or_seed(a.scenario_path, a.overrides, a.engines);
+  sc.max_run_seconds = a.max_run_seconds;
   if (a.out.empty()) a.out = "out/" + sc.name;
+  refuse_overwriting_input(a.scenario_path, a.out, "scenario.toml");
+  const OutputLock lock(a.out);
   RunOptions options;
   options.engines = a.engines;
   options.progress = !a.quiet;
@@ -64,6 +70,7 @@ Command add_run_command(CLI::App& app) {
          "--set,-s", a->overrides,
          "override a scenario key, e.g. cloth.damping=0 or engine.custom-rk4.dt=2e-4 (repeatable)")
       ->allow_extra_args(false);
+  add_max_run_seconds(run, a->max_run_seconds);
   run->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   run->footer(
       "Exit status: 0 when every engine ran (an unstable run is a result), 2 for bad input, 70 "

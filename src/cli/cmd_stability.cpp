@@ -8,6 +8,9 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "harness/output_lock.hpp"
+#include "harness/stability_files.hpp"
+#include "option_checks.hpp"
 #include "harness/stability_sweep.hpp"
 #include "scenario_input.hpp"
 #include "harness/summaries.hpp"
@@ -19,14 +22,18 @@ struct StabilityArgs {
   std::string scenario_path;           // empty: the embedded seed scene
   std::vector<std::string> overrides;  // --set KEY=VALUE
   bool quiet = false;
+  double max_run_seconds = 0;  // s, 0: no limit
   StabilityOptions options;  // out_dir empty: out/<scenario name>
 };
 
 int execute_stability(StabilityArgs a) {
   StabilityOptions& o = a.options;
   o.progress = !a.quiet;
-  const Scenario sc = load_or_seed(a.scenario_path, a.overrides, o.engines);
+  Scenario sc = load_or_seed(a.scenario_path, a.overrides, o.engines);
+  sc.max_run_seconds = a.max_run_seconds;
   if (o.out_dir.empty()) o.out_dir = "out/" + sc.name;
+  refuse_overwriting_input(a.scenario_path, o.out_dir, kStabilitySidecar);
+  const OutputLock lock(o.out_dir);
   const std::vector<StabilityRow> rows = run_stability(sc, o);
   std::cout << stability_summary(rows) << std::flush;
   if (o.progress) std::cerr << "wrote " << o.out_dir << "/stability.csv\n";
@@ -55,20 +62,21 @@ Command add_stability_command(CLI::App& app) {
       ->allow_extra_args(false);
   stability->add_option("--dt-max", o.dt_max, "largest dt tried (s)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   stability
       ->add_option("--rel-tol", o.rel_tol,
                    "bisection stops when first_unstable / stable - 1 <= this (or when they are\n"
                    "one step count apart)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(positive_number());
   stability->add_option("--jobs,-j", o.jobs, "searches run at once (default: all cores)")
-      ->check(CLI::PositiveNumber);
+      ->check(positive_integer());
   stability->add_flag("--resume", o.resume,
                       "keep the rows already in stability.csv and search only the rest (refused\n"
                       "when the scenario, --set, --engine, --dt-max or --rel-tol differ)");
   stability->add_option("--set,-s", a->overrides, "override a scenario key (repeatable)")
       ->allow_extra_args(false);
+  add_max_run_seconds(stability, a->max_run_seconds);
   stability->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {stability, [a] { return execute_stability(*a); }, true};
 }

@@ -14,6 +14,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "option_checks.hpp"
 #include "harness/build_info.hpp"
 #include "harness/runner.hpp"
 #include "harness/user_error.hpp"
@@ -59,13 +60,20 @@ int main(int argc, char** argv) {
     const std::vector<Command> commands = {add_run_command(app),      add_stability_command(app),
                                            add_accuracy_command(app), add_check_command(app),
                                            add_report_command(app),   add_list_command(app)};
+    require_known_command(app, argc, argv);
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
       return app.exit(e) == 0 ? kExitOk : kExitUserError;
     }
-    std::signal(SIGINT, [](int) { interrupt_requested() = true; });
-    std::signal(SIGTERM, [](int) { interrupt_requested() = true; });
+    // the first Ctrl-C stops at the next step; a second one (a step stuck inside an engine)
+    // ends the process at once: outputs appear only when complete, so none is half written
+    const auto on_signal = [](int) {
+      if (interrupt_requested().exchange(true)) std::_Exit(kExitInterrupted);
+    };
+    interrupt_requested() = false;  // its static is made here, never first in a handler
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
     throw_if_internal_error_requested();
     for (const Command& c : commands) {
       if (!*c.app) continue;

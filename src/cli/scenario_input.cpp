@@ -6,6 +6,7 @@
 #include <filesystem>
 
 #include "harness/scenario_loader.hpp"
+#include "harness/user_error.hpp"
 
 namespace clothbench::cli {
 
@@ -15,6 +16,17 @@ Scenario load_or_seed(const std::string& path, const std::vector<std::string>& o
     return parse_scenario(embedded_default_scenario(), "<embedded seed_sphere_drape>", overrides,
                           only);
   return load_scenario(path, overrides, only);
+}
+
+void refuse_overwriting_input(const std::string& scenario_path, const std::string& out_dir,
+                              const std::string& written) {
+  std::error_code ec;
+  const std::string target = out_dir + "/" + written;
+  if (scenario_path.empty() || !std::filesystem::equivalent(scenario_path, target, ec) || ec)
+    return;
+  throw UserError(target + " is the scenario file " + scenario_path +
+                  " itself, which this command would overwrite; choose another output folder "
+                  "(--out)");
 }
 
 std::vector<std::string> shipped_scenarios() {

@@ -15,6 +15,12 @@ namespace clothbench::cli {
 Scenario load_or_seed(const std::string& path, const std::vector<std::string>& overrides,
                       const std::vector<std::string>& only);
 
+/// Throws UserError when the file out_dir/written, which a command is about to write, is the
+/// scenario file it reads (`run SCEN -o DIR` with DIR/scenario.toml being SCEN): an input is
+/// never overwritten.
+void refuse_overwriting_input(const std::string& scenario_path, const std::string& out_dir,
+                              const std::string& written);
+
 /// Every shipped scenario file (scenarios/*.toml of the source tree), sorted.
 std::vector<std::string> shipped_scenarios();
 

@@ -11,6 +11,7 @@
 #include "harness/scenario_loader.hpp"
 #include "harness/scenario_writer.hpp"
 #include "harness/sweep.hpp"
+#include "harness/scenario_format.hpp"
 #include "harness/user_error.hpp"
 
 namespace clothbench {
@@ -37,6 +38,10 @@ void check_divides(const Scenario& sc, double dt, const std::string& what) {
         what + ": dt = " + format_double(dt) +
         " s does not divide frame_interval = " + format_double(sc.frame_interval) + " s of " +
         sc.source + " (every swept dt must: give --dts that divide it)");
+  if (sc.duration / dt > kMaxSteps)
+    throw UserError(what + ": dt = " + format_double(dt) + " s would take duration / dt = " +
+                    format_double(sc.duration / dt) + " steps, more than " +
+                    format_double(kMaxSteps) + "; give larger --dts or fewer --halvings");
 }
 
 /// Throws UserError for an option out of range.
@@ -45,6 +50,11 @@ void check_options(const Scenario& sc, const AccuracyOptions& o) {
   if (o.dts.empty() && o.halvings < 1)
     throw UserError("--halvings " + std::to_string(o.halvings) +
                     ": expected at least 1 time step per engine");
+  // each halving doubles the steps: past 60 no run could be made (kMaxSteps < 2^30)
+  if (o.dts.empty() && o.halvings > 60)
+    throw UserError("--halvings " + std::to_string(o.halvings) +
+                    ": expected at most 60 (each halves dt; runs of more than " +
+                    format_double(kMaxSteps) + " steps are refused)");
   if (o.repeats < 1) throw UserError("--repeats " + std::to_string(o.repeats) + ": expected >= 1");
   for (int r : o.resolutions)
     if (r < 2)

@@ -30,6 +30,7 @@ double engine_cost(const AccuracyRow& r) {
 /// a before b among rows of one engine: cheaper, then more accurate; equal rows keep their
 /// order (the caller scans in row order and replaces only on strictly before)
 bool before(const AccuracyRow& a, const AccuracyRow& b, double AccuracyRow::*error) {
+  if (std::isnan(engine_cost(a)) != std::isnan(engine_cost(b))) return std::isnan(engine_cost(b));
   if (engine_cost(a) != engine_cost(b)) return engine_cost(a) < engine_cost(b);
   return a.*error < b.*error;
 }
@@ -80,10 +81,12 @@ std::vector<Recommendation> recommend_all(const std::vector<AccuracyRow>& rows,
   const auto key = [&](const AccuracyRow& r) {
     return all_counted ? counted_work(r) : r.wall_s_per_sim_s;
   };
+  // a NaN cost or error never wins: it ranks after every number
+  const auto less = [](double a, double b) { return a < b || (std::isnan(b) && !std::isnan(a)); };
   const Recommendation* best = nullptr;
   for (const Recommendation& r : out) {
     if (!r.found) continue;
-    if (!best || key(r.row) < key(best->row) ||
+    if (!best || less(key(r.row), key(best->row)) ||
         (key(r.row) == key(best->row) && r.row.*error < best->row.*error))
       best = &r;
   }

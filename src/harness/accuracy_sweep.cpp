@@ -77,8 +77,10 @@ void prepare_folder(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& 
     auto it = earlier_refs.find("dt");
     if (it != earlier_refs.end()) plan.reference.error_floor = it->second.number(5, kNaN);
   }
-  std::vector<std::string> stale;
-  if (o.tolerance <= 0) stale = {"recommendation.csv", "resolution_recommendation.csv"};
+  // what the report derives from the rows goes until the report writes it again, so that
+  // a sweep that stops early never leaves an older sweep's fits beside its rows
+  std::vector<std::string> stale = {"convergence.csv", "recommendation.csv",
+                                    "resolution_recommendation.csv"};
   if (plan.grids.empty())
     stale.insert(stale.end(), {"resolution.csv", "resolution_recommendation.csv"});
   for (const std::string& f : stale) std::filesystem::remove(dir + f);
@@ -271,10 +273,15 @@ void run_references(const Scenes& scenes, ReferenceJobs& refs, int jobs, Progres
   for (const RefJob& j : refs.jobs) {
     if (j.run.stable) continue;
     const Scenario& s = scenes.scenario(j.grid);
-    throw UserError("the reference (rk4 at dt = " + format_double(j.spec.dt) + " s on " +
-                    grid_name(s.scene.cloth.nu, s.scene.cloth.nv) + " particles) blew up at t = " +
-                    format_double(j.run.blowup_t) + " s: " + scenes.sc.source +
-                    " is not stable even so; sweep smaller time steps (--dts)");
+    const std::string what = "the reference (rk4 at dt = " + format_double(j.spec.dt) +
+                             " s on " + grid_name(s.scene.cloth.nu, s.scene.cloth.nv) +
+                             " particles)";
+    if (j.run.timed_out)
+      throw UserError(what + " did not finish within --max-run-seconds " +
+                      format_double(s.max_run_seconds) +
+                      " s; allow it more time or sweep larger time steps (--dts)");
+    throw UserError(what + " blew up at t = " + format_double(j.run.blowup_t) + " s: " +
+                    scenes.sc.source + " is not stable even so; sweep smaller time steps (--dts)");
   }
 }
 
@@ -328,7 +335,9 @@ AccuracyRow measure(const AccuracyPlan& plan, const AccuracyConfig& c, const Tim
     if (run.stable) row.error_max = 0;
     for (size_t k = 0; run.stable && k < run.positions.size(); ++k) {
       row.error_final = rms_distance(run.positions[k], ref.positions[k]);
-      row.error_max = std::max(row.error_max, row.error_final);
+      // a NaN sticks (std::max would drop it)
+      if (!std::isnan(row.error_max) && !(row.error_final <= row.error_max))
+        row.error_max = row.error_final;
     }
   } else {
     const int n = plan.sizes[size_t(c.grid)], nr = plan.sizes.back();
@@ -370,7 +379,7 @@ void report(const AccuracyPlan& plan, const AccuracyOptions& o, AccuracyReport& 
   report.convergence = fit_convergence(report.rows, report.reference.error_floor);
   write_convergence(dir + "convergence.csv", report.convergence);
   report.files.push_back(dir + "convergence.csv");
-  if (o.tolerance <= 0) return;
+  if (!(o.tolerance > 0)) return;
   // the cheapest configuration within the tolerance, per engine and overall
   report.recommendations =
       recommend_all(report.rows, plan.engine_names, o.tolerance, &AccuracyRow::error_max);
@@ -384,9 +393,12 @@ void report(const AccuracyPlan& plan, const AccuracyOptions& o, AccuracyReport& 
   report.files.push_back(dir + "resolution_recommendation.csv");
 }
 
-}  // namespace
+/// The files a sweep writes into its folder.
+const std::vector<std::string> kAccuracyFiles = {
+    "scenario.toml",  "run.json",           "reference.csv",      "work_precision.csv",
+    "resolution.csv", "convergence.csv",    "recommendation.csv", "resolution_recommendation.csv"};
 
-AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
+AccuracyReport sweep(const Scenario& sc, const AccuracyOptions& o) {
   // plan: every configuration and reference, and the folder they go in
   AccuracyPlan plan = plan_accuracy(sc, o);
   const std::string dir = o.out_dir + "/";
@@ -419,6 +431,23 @@ AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
   if (!plan.grids.empty()) result.files.push_back(dir + "resolution.csv");
   report(plan, o, result);
   return result;
+}
+
+}  // namespace
+
+AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o) {
+  std::vector<std::string> created;  // files of the sweep not in the folder before it
+  for (const std::string& f : kAccuracyFiles)
+    if (!std::filesystem::exists(o.out_dir + "/" + f)) created.push_back(o.out_dir + "/" + f);
+  try {
+    return sweep(sc, o);
+  } catch (const UserError&) {
+    // a sweep refused (bad options, a reference that blows up) leaves nothing it created;
+    // an interrupted one keeps its rows for --resume
+    std::error_code ec;
+    for (const std::string& f : created) std::filesystem::remove(f, ec);
+    throw;
+  }
 }
 
 }  // namespace clothbench

@@ -52,8 +52,8 @@ void AtomicFile::write(const std::string& text) {
 }
 
 void AtomicFile::commit() {
-  const bool ok = std::fflush(m_file) == 0 && ::fsync(::fileno(m_file)) == 0;
-  std::fclose(m_file);
+  bool ok = std::fflush(m_file) == 0 && ::fsync(::fileno(m_file)) == 0;
+  ok = std::fclose(m_file) == 0 && ok;
   m_file = nullptr;
   if (!ok || std::rename(m_tmp.c_str(), m_path.c_str()) != 0) {
     std::remove(m_tmp.c_str());

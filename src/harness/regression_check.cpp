@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <stdexcept>
@@ -21,6 +22,7 @@
 #include "harness/stability_sweep.hpp"
 #include "harness/sweep.hpp"
 #include "harness/text_file.hpp"
+#include "harness/toml_text.hpp"
 #include "harness/user_error.hpp"
 
 namespace clothbench {
@@ -64,6 +66,84 @@ std::string read_file(const fs::path& p) {
   return read_existing_text(p.string());
 }
 
+/// "FILE:LINE: KEY: " for a message about the node at key.
+std::string where_in(const fs::path& p, const toml::node& node, const std::string& key) {
+  return p.string() + ":" + std::to_string(node.source().begin.line) + ": " + key + ": ";
+}
+
+/// Throws, naming file, line and key, when tab has a key outside known.
+void require_known_keys(const fs::path& p, const toml::table& tab, const std::string& prefix,
+                        const std::vector<std::string>& known) {
+  for (const auto& [key, node] : tab) {
+    const std::string name(key.str());
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw UserError(where_in(p, node, prefix + name) + "unknown key (expected one of " + list +
+                    ")");
+  }
+}
+
+/// The number at tab[key] (fallback when missing); throws, naming file, line and key, for
+/// anything but a finite number >= 0 (written so that NaN fails).
+double non_negative(const fs::path& p, const toml::table& tab, const std::string& key,
+                    const std::string& prefix, double fallback) {
+  const toml::node* node = tab.get(key);
+  if (!node) return fallback;
+  const std::optional<double> v = node->value<double>();
+  if (!v || !std::isfinite(*v) || !(*v >= 0))
+    throw UserError(where_in(p, *node, prefix + key) + "expected a finite number >= 0, got " +
+                    describe(*node));
+  return *v;
+}
+
+/// The array of strings at node; throws, naming file and key, for anything else.
+std::vector<std::string> strings_at(const fs::path& p, toml::node_view<const toml::node> node,
+                                    const std::string& where) {
+  std::vector<std::string> out;
+  const toml::array* a = node.as_array();
+  if (!a) throw UserError(p.string() + ": " + where + ": expected an array of strings");
+  for (const auto& v : *a) {
+    if (!v.is_string())
+      throw UserError(where_in(p, v, where) + "expected an array of strings");
+    out.push_back(v.value_or(std::string()));
+  }
+  return out;
+}
+
+/// [stability]: which searches to gate and how.
+void read_stability_table(const fs::path& p, const toml::table& s, Tolerances& t) {
+  require_known_keys(p, s, "stability.", {"engine", "integrators", "rel_tol", "adjacent"});
+  t.stability = true;
+  t.stability_engine = s["engine"].value_or(std::string());
+  t.stability_rel_tol = non_negative(p, s, "rel_tol", "stability.", 0.02);
+  if (!(t.stability_rel_tol > 0))
+    throw UserError(where_in(p, *s.get("rel_tol"), "stability.rel_tol") + "expected a number > 0");
+  t.stability_adjacent = s["adjacent"].value_or(false);
+  if (s.contains("integrators"))
+    t.stability_integrators = strings_at(p, s["integrators"], "stability.integrators");
+}
+
+/// [ungated.<engine>]: quantities not gated for that engine, with the reason.
+void read_ungated_table(const fs::path& p, const toml::table& u,
+                        const std::vector<std::string>& known, Tolerances& t) {
+  for (const auto& [engine_key, node] : u) {
+    const std::string engine(engine_key.str()), where = "ungated." + engine;
+    const toml::table* e = node.as_table();
+    if (!e)
+      throw UserError(where_in(p, node, where) +
+                      "expected { quantities = [...], reason = \"...\" }");
+    require_known_keys(p, *e, where + ".", {"quantities", "reason"});
+    const std::string reason = (*e)["reason"].value_or(std::string());
+    if (reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
+    for (const std::string& q : strings_at(p, (*e)["quantities"], where + ".quantities")) {
+      if (std::find(known.begin(), known.end(), q) == known.end())
+        throw UserError(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
+      t.ungated[engine][q] = reason;
+    }
+  }
+}
+
 Tolerances read_tolerances(const fs::path& p) {
   Tolerances t;
   toml::table root;
@@ -73,62 +153,28 @@ Tolerances read_tolerances(const fs::path& p) {
     throw UserError(p.string() + ":" + std::to_string(e.source().begin.line) + ": " +
                     std::string(e.description()));
   }
-  const std::vector<std::string> known = [] {
-    std::vector<std::string> k = kMetricQuantities;
-    k.push_back("final_shape_rms");
-    return k;
-  }();
-  auto strings = [&](toml::node_view<const toml::node> node, const std::string& where) {
-    std::vector<std::string> out;
-    const toml::array* a = node.as_array();
-    if (!a) throw UserError(p.string() + ": " + where + ": expected an array of strings");
-    for (const auto& v : *a) {
-      if (!v.is_string())
-        throw UserError(p.string() + ": " + where + ": expected an array of strings");
-      out.push_back(v.value_or(std::string()));
-    }
-    return out;
-  };
+  std::vector<std::string> known = kMetricQuantities;
+  known.push_back("final_shape_rms");
   for (const auto& [key, node] : root) {
     const std::string name(key.str());
     if (name == "stability" || name == "ungated" || name == "mirror") continue;
     if (std::find(known.begin(), known.end(), name) == known.end())
-      throw UserError(p.string() + ": unknown quantity \"" + name + "\"");
+      throw UserError(where_in(p, node, name) + "unknown quantity");
     const toml::table* tab = node.as_table();
-    if (!tab) throw UserError(p.string() + ": " + name + ": expected { abs = ..., rel = ... }");
-    Tolerance tol;
-    tol.abs = (*tab)["abs"].value_or(0.0);
-    tol.rel = (*tab)["rel"].value_or(0.0);
-    t.quantity[name] = tol;
+    if (!tab) throw UserError(where_in(p, node, name) + "expected { abs = ..., rel = ... }");
+    require_known_keys(p, *tab, name + ".", {"abs", "rel"});
+    t.quantity[name] = {non_negative(p, *tab, "abs", name + ".", 0.0),
+                        non_negative(p, *tab, "rel", name + ".", 0.0)};
   }
   for (const std::string& q : known)
     if (!t.quantity.count(q)) throw UserError(p.string() + ": no tolerance for " + q);
-  if (const toml::table* s = root["stability"].as_table()) {
-    t.stability = true;
-    t.stability_engine = (*s)["engine"].value_or(std::string());
-    t.stability_rel_tol = (*s)["rel_tol"].value_or(0.02);
-    t.stability_adjacent = (*s)["adjacent"].value_or(false);
-    if (const toml::array* a = (*s)["integrators"].as_array())
-      for (const auto& v : *a) t.stability_integrators.push_back(v.value_or(std::string()));
+  if (const toml::table* s = root["stability"].as_table()) read_stability_table(p, *s, t);
+  if (const toml::table* u = root["ungated"].as_table()) read_ungated_table(p, *u, known, t);
+  if (const toml::table* m = root["mirror"].as_table()) {
+    require_known_keys(p, *m, "mirror.", {"engines"});
+    for (const std::string& e : strings_at(p, (*m)["engines"], "mirror.engines"))
+      t.mirrored.insert(e);
   }
-  if (const toml::table* u = root["ungated"].as_table()) {
-    for (const auto& [engine_key, node] : *u) {
-      const std::string engine(engine_key.str()), where = "ungated." + engine;
-      const toml::table* e = node.as_table();
-      if (!e)
-        throw UserError(p.string() + ": " + where +
-                        ": expected { quantities = [...], reason = \"...\" }");
-      const std::string reason = (*e)["reason"].value_or(std::string());
-      if (reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
-      for (const std::string& q : strings((*e)["quantities"], where + ".quantities")) {
-        if (std::find(known.begin(), known.end(), q) == known.end())
-          throw UserError(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
-        t.ungated[engine][q] = reason;
-      }
-    }
-  }
-  if (const toml::table* m = root["mirror"].as_table())
-    for (const std::string& e : strings((*m)["engines"], "mirror.engines")) t.mirrored.insert(e);
   return t;
 }
 
@@ -255,17 +301,17 @@ std::string engine_of(const std::string& key) {
 }
 
 void write_baseline(const fs::path& dir, const RunResult& result,
-                    const std::vector<StabilityRow>* stability) {
+                    const std::vector<StabilityRow>* stability, PendingBaselines& pending) {
   make_directories(dir.string());
-  CsvWriter metrics((dir / "metrics.csv").string(), kMetricsHeader);
+  auto metrics = std::make_unique<CsvWriter>((dir / "metrics.csv").string(), kMetricsHeader);
   for (size_t i = 0; i < result.runs.size(); ++i)
     for (const auto& [q, v] : run_metrics(result, i))
-      metrics.add(result.runs[i].spec.name).add(q).add(v).end_row();
-  CsvWriter shape((dir / "shape.csv").string(), kShapeHeader);
+      metrics->add(result.runs[i].spec.name).add(q).add(v).end_row();
+  auto shape = std::make_unique<CsvWriter>((dir / "shape.csv").string(), kShapeHeader);
   for (const EngineRun& run : result.runs) {
     const cloth::Matrix3X& x = run.snapshots.back();
     for (Eigen::Index p = 0; p < x.cols(); ++p)
-      shape.add(run.spec.name)
+      shape->add(run.spec.name)
           .add(int(p % result.model.nu))
           .add(int(p / result.model.nu))
           .add(x(0, p))
@@ -273,16 +319,16 @@ void write_baseline(const fs::path& dir, const RunResult& result,
           .add(x(2, p))
           .end_row();
   }
-  metrics.commit();
-  shape.commit();
+  pending.add(std::move(metrics));
+  pending.add(std::move(shape));
   if (stability) {
-    CsvWriter st((dir / "stability.csv").string(), kStabilityHeader);
+    auto st = std::make_unique<CsvWriter>((dir / "stability.csv").string(), kStabilityHeader);
     for (const StabilityRow& r : *stability)
-      st.add(r.engine).add(r.integrator).add(r.stable_dt).add(r.first_unstable_dt).end_row();
-    st.commit();
+      st->add(r.engine).add(r.integrator).add(r.stable_dt).add(r.first_unstable_dt).end_row();
+    pending.add(std::move(st));
   } else {
     // limits no longer searched must not linger as a baseline nobody checks
-    fs::remove(dir / "stability.csv");
+    pending.remove_on_commit((dir / "stability.csv").string());
   }
 }
 
@@ -410,6 +456,7 @@ CheckPlan plan_check(const std::string& scenario_path, const CheckOptions& o) {
         "the very change it should catch; drop the --set overrides, or add --record-perturbed "
         "if a perturbed baseline is what you mean");
   CheckPlan plan{load_scenario(scenario_path, o.overrides), {}, {}};
+  plan.sc.max_run_seconds = o.max_run_seconds;
   plan.dir = fs::path(o.baseline_dir) / plan.sc.name;
   const fs::path tol_path = plan.dir / "tolerances.toml";
   if (o.update && !fs::exists(tol_path)) {
@@ -448,7 +495,7 @@ CheckRun run_check(const CheckPlan& plan, const CheckOptions& o) {
 }
 
 /// --update: records the baseline and reports what changed against the previous one.
-std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now) {
+std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now, const CheckOptions& o) {
   const Metrics old_metrics =
       fs::exists(plan.metrics_path()) ? read_metrics(plan.metrics_path()) : Metrics();
   Shapes old_shapes;
@@ -461,7 +508,10 @@ std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now) {
   }
   const Brackets old_brackets =
       fs::exists(plan.stability_path()) ? read_brackets(plan.stability_path()) : Brackets();
-  write_baseline(plan.dir, now.result, plan.tol.stability ? &now.stability : nullptr);
+  PendingBaselines own;
+  write_baseline(plan.dir, now.result, plan.tol.stability ? &now.stability : nullptr,
+                 o.pending ? *o.pending : own);
+  own.commit();
   std::vector<Gate> gates =
       changes(plan.sc.name, old_metrics, old_shapes, old_brackets, now.result, now.brackets);
   if (!grid_changed.empty())
@@ -638,7 +688,14 @@ std::vector<Gate> compare(const CheckPlan& plan, const CheckRun& now) {
 std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOptions& o) {
   const CheckPlan plan = plan_check(scenario_path, o);
   const CheckRun now = run_check(plan, o);
-  return o.update ? record(plan, now) : compare(plan, now);
+  return o.update ? record(plan, now, o) : compare(plan, now);
+}
+
+void PendingBaselines::commit() {
+  for (const std::unique_ptr<CsvWriter>& f : m_files) f->commit();
+  for (const std::string& path : m_removals) fs::remove(path);
+  m_files.clear();
+  m_removals.clear();
 }
 
 std::string format_gates(const std::vector<Gate>& gates) {

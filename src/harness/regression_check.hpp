@@ -13,12 +13,29 @@
 /// Every engine and stability row on either side is gated: one recorded in the baseline that
 /// did not run now fails, and so does one that ran without a baseline.
 
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "harness/csv_writer.hpp"
 #include "harness/scenario.hpp"
 
 namespace clothbench {
+
+/// The baseline files of `check --update`, each written in full to a temporary file before
+/// any replaces its predecessor; commit() makes them all appear (and removes the ones no
+/// longer recorded), so an update that fails or is interrupted changes no baseline.
+class PendingBaselines {
+ public:
+  void add(std::unique_ptr<CsvWriter> file) { m_files.push_back(std::move(file)); }
+  void remove_on_commit(const std::string& path) { m_removals.push_back(path); }
+  /// Renames every file onto its target, then removes what remove_on_commit named.
+  void commit();
+
+ private:
+  std::vector<std::unique_ptr<CsvWriter>> m_files;
+  std::vector<std::string> m_removals;
+};
 
 /// How to check.
 struct CheckOptions {
@@ -28,6 +45,9 @@ struct CheckOptions {
   bool record_perturbed = false;       // with update and overrides: record them anyway
   bool progress = true;
   int jobs = 1;  // threads for the stability searches
+  double max_run_seconds = 0;  // s per engine run before it stops as a timeout (0: none)
+  PendingBaselines* pending = nullptr;  // update: the new files wait here for the caller's
+                                        // commit (nullptr: each scenario commits its own)
 };
 
 /// One gated quantity.

@@ -27,6 +27,17 @@ long long planned_steps(const Scenario& sc, const EngineSpec& spec) {
   return std::llround(sc.duration / spec.dt);
 }
 
+namespace {
+
+/// True once a run started at started has taken more than sc.max_run_seconds (when set).
+bool over_budget(const Scenario& sc, std::chrono::steady_clock::time_point started) {
+  return sc.max_run_seconds > 0 &&
+         !(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() <=
+           sc.max_run_seconds);
+}
+
+}  // namespace
+
 EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
                      Progress* progress, bool keep_positions) {
   EngineRun run;
@@ -44,7 +55,10 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
     FrameMetrics m =
         frame_metrics(model, t, sim->positions(), sim->velocities(), sim->dissipated(), e0);
     m.stable = stable;
-    if (stable) run.max_energy_error = std::max(run.max_energy_error, std::abs(m.energy_error));
+    // a NaN energy error sticks (std::max would drop it and let the gate pass)
+    if (stable && !std::isnan(run.max_energy_error) &&
+        !(std::abs(m.energy_error) <= run.max_energy_error))
+      run.max_energy_error = std::abs(m.energy_error);
     run.frames.push_back(m);
     if (keep_positions) run.positions.push_back(sim->positions());
   };
@@ -55,10 +69,16 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
 
   log_frame(0, true);
   snapshot();
+  const auto started = std::chrono::steady_clock::now();
   for (long long f = 1; f <= frames && run.stable; ++f) {
     for (long long s = 0; s < steps_per_frame; ++s) {
       // every step: one frame can be long (a stability trial is a single frame)
       if (interrupt_requested()) throw Interrupted();
+      if (over_budget(sc, started)) {
+        run.stable = false;
+        run.timed_out = true;
+        break;
+      }
       const auto t0 = std::chrono::steady_clock::now();
       sim->step(spec.dt);
       run.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -122,8 +142,11 @@ RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
     msg << spec.name << ": " << run.counters.steps << " steps of " << spec.dt << " s in "
         << format_double(std::round(run.wall_s * 1000) / 1000) << " s ("
         << std::llround(run.counters.steps / std::max(run.wall_s, 1e-9)) << " steps/s), "
-        << (run.stable ? std::string("stable")
-                       : "unstable at t = " + format_double(run.blowup_t) + " s");
+        << (run.stable      ? std::string("stable")
+            : run.timed_out ? "timeout: stopped at t = " + format_double(run.frames.back().t) +
+                                  " s after --max-run-seconds " +
+                                  format_double(sc.max_run_seconds) + " s"
+                            : "unstable at t = " + format_double(run.blowup_t) + " s");
     if (run.counters.cg_unconverged > 0)
       msg << "; " << run.counters.cg_unconverged
           << " linear solves stopped at cg_max_iterations before reaching cg_tolerance";
@@ -233,8 +256,8 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
     summary.add(run.spec.dt).add(static_cast<long long>(run.counters.steps)).add(run.wall_s);
     summary.add(run.counters.steps > 0 ? 1e6 * run.wall_s / double(run.counters.steps) : 0.0);
     summary.add(static_cast<long long>(run.counters.force_evals)).add(run.stable ? 1 : 0);
-    if (run.stable)
-      summary.skip();
+    if (run.stable || run.timed_out)
+      summary.skip();  // a timeout: stable 0 with no blow-up time
     else
       summary.add(run.blowup_t);
     summary.add(run.max_energy_error);

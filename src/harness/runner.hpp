@@ -25,7 +25,9 @@ struct EngineRun {
   std::vector<cloth::Matrix3X> snapshots;  // 3 by #P at those times
   cloth::Counters counters;
   double wall_s = 0;  // s spent in step() alone
-  bool stable = true;
+  bool stable = true;      // false after a blow-up or a timeout
+  bool timed_out = false;  // stopped after Scenario::max_run_seconds (stable is false,
+                           // blowup_t NaN)
   double blowup_t = std::numeric_limits<double>::quiet_NaN();  // s, first unstable step
   double max_energy_error = 0;  // J, largest |energy_error| while stable
 };
@@ -55,7 +57,8 @@ struct Interrupted : std::runtime_error {
 };
 
 /// Runs one engine of sc over the scenario's duration, logging a frame every frame_interval.
-/// Stops at the first step where a coordinate is not finite or |strain| > blowup_strain.
+/// Stops at the first step where a coordinate is not finite or |strain| > blowup_strain, or
+/// once the run has taken sc.max_run_seconds of wall clock (when > 0): a timeout.
 EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
                      Progress* progress, bool keep_positions);
 

@@ -33,7 +33,8 @@ struct EngineSpec {
   reference::BulletOptions bullet;  // kind = bullet-*
 };
 
-/// Everything a run needs; every key of the scenario file has a field here.
+/// Everything a run needs; every key of the scenario file has a field here, and so has the
+/// one run setting of the command line that is not a key (max_run_seconds).
 struct Scenario {
   std::string name = "scenario";
   std::string description;
@@ -46,6 +47,8 @@ struct Scenario {
   cloth::Scene scene;              // scene.held is filled from constraints
   std::vector<ConstraintSpec> constraints;
   std::vector<EngineSpec> engines;
+  double max_run_seconds = 0;  // s of wall clock one engine run may take before it stops as
+                               // a timeout (--max-run-seconds; 0: no limit; never in a file)
 
   /// The reference engine's index in engines.
   int reference_index() const;

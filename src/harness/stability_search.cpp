@@ -6,18 +6,12 @@
 #include "cloth/model.hpp"
 #include "harness/csv_writer.hpp"
 #include "harness/runner.hpp"
+#include "harness/scenario_format.hpp"
 #include "harness/sweep.hpp"
 
 namespace clothbench {
 
 namespace {
-
-/// True when big is a whole multiple (>= 1) of small, up to round-off (as the loader checks).
-bool whole_multiple(double big, double small) {
-  const double r = big / small;
-  const double n = std::round(r);
-  return n >= 1 && std::abs(r - n) <= 1e-9 * r;
-}
 
 /// One search: the runs it makes and the bracket it narrows.
 class Search {
@@ -51,7 +45,11 @@ class Search {
   void shrink(long long n0) {
     StabilityBracket& b = m_bracket;
     unstable(n0);
-    for (int k = 0; k < kMaxHalvings; ++k) {
+    // a smaller dt only takes longer: after a timeout the search ends with no stable dt, and
+    // no run of more than kMaxSteps steps is made
+    for (int k = 0; k < kMaxHalvings && m_cause != "timeout" &&
+                    double(2 * m_bracket.n_unstable) <= kMaxSteps;
+         ++k) {
       if (stable(2 * b.n_unstable)) {
         b.n_stable = 2 * b.n_unstable;
         return;
@@ -117,7 +115,9 @@ bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause) {
   const cloth::Model model = cloth::build_model(s.scene);
   const EngineRun run = run_engine(s, e, model, nullptr, false);
   if (!run.stable && cause)
-    *cause = std::isfinite(run.frames.back().max_strain) ? "strain" : "non-finite";
+    *cause = run.timed_out ? "timeout"
+             : std::isfinite(run.frames.back().max_strain) ? "strain"
+                                                           : "non-finite";
   return run.stable;
 }
 

@@ -24,7 +24,8 @@ double stability_horizon(const Scenario& sc);
 std::string stability_rerun(const Scenario& sc, const EngineSpec& e);
 
 /// Whether one run of engine e over the horizon stays stable; cause says how it failed
-/// ("non-finite" or "strain"). Runs llround(horizon / e.dt) steps.
+/// ("non-finite", "strain", or "timeout" after sc.max_run_seconds). Runs llround(horizon /
+/// e.dt) steps.
 bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause);
 
 /// Where a search ended, on the step grid dt = horizon / n: n_stable steps were stable and
@@ -39,8 +40,8 @@ struct StabilityBracket {
 
 /// Searches the limit of engine (integrator and dt applied per run) from n_start steps:
 /// halving n until a run fails or n_min (the --dt-max bound) is reached, or, when n_start
-/// fails, doubling n up to kMaxHalvings times; then bisecting on a log scale until the
-/// bracket is within rel_tol or neighbours on the grid. Throws Interrupted when asked to stop.
+/// fails, doubling n up to kMaxHalvings times (not after a timeout, nor past kMaxSteps); then
+/// bisecting on a log scale until the bracket is within rel_tol or neighbours on the grid. Throws Interrupted when asked to stop.
 StabilityBracket search_stability_limit(const Scenario& sc, const EngineSpec& engine,
                                         const std::string& integrator, long long n_start,
                                         long long n_min, double rel_tol);

@@ -11,6 +11,7 @@
 #include "harness/engine_factory.hpp"
 #include "harness/progress.hpp"
 #include "harness/runner.hpp"
+#include "harness/scenario_format.hpp"
 #include "harness/stability_files.hpp"
 #include "harness/stability_search.hpp"
 #include "harness/sweep_table.hpp"
@@ -38,6 +39,16 @@ void check_options(const StabilityOptions& o) {
   if (o.out_dir.empty()) throw UserError("stability: no output folder given");
   if (!(o.dt_max > 0)) throw UserError("--dt-max: expected a time step > 0");
   if (!(o.rel_tol > 0)) throw UserError("--rel-tol: expected a number > 0");
+}
+
+/// Throws UserError naming --dt-max when every run would take more than kMaxSteps steps.
+void check_step_count(const Scenario& sc, const StabilityOptions& o) {
+  const double steps = stability_horizon(sc) / o.dt_max;
+  if (!(steps <= kMaxSteps))
+    throw UserError("--dt-max " + format_double(o.dt_max) + ": every run would take at least " +
+                    format_double(steps) + " steps of the " +
+                    format_double(stability_horizon(sc)) + " s horizon, more than " +
+                    format_double(kMaxSteps) + "; expected a larger --dt-max");
 }
 
 bool selected(const std::vector<std::string>& names, const std::string& name) {
@@ -96,9 +107,14 @@ StepGrid step_grid(const Scenario& sc, const StabilityOptions& o) {
 /// Why the search ended where it did: what failed (or why nothing did), the limiting mode of
 /// the theory, and where the search had to start.
 std::string cause_of(const StabilityConfig& c, const StabilityBracket& b, const StepGrid& grid,
-                     const cloth::LinearSpectrum& spectrum, double predicted_dt, double dt_max) {
+                     const cloth::LinearSpectrum& spectrum, double predicted_dt, double dt_max,
+                     double sc_max_run_seconds) {
   std::string cause;
-  if (b.n_stable == 0)
+  if (b.n_stable == 0 && b.unstable_cause == "timeout")
+    cause = "timeout at dt = " + format_double(grid.dt(b.n_unstable)) +
+            " s (--max-run-seconds " + format_double(sc_max_run_seconds) +
+            " s): no stable dt found";
+  else if (b.n_stable == 0)
     cause = b.unstable_cause + " at every dt tried down to " +
             format_double(grid.dt(b.n_unstable)) + " s (the engine's dt / 2^" +
             std::to_string(kMaxHalvings) + "): no stable dt found";
@@ -135,7 +151,7 @@ StabilityRow measure(const Scenario& sc, const StabilityConfig& c, const Stabili
   if (b.n_unstable > 0) row.rerun_unstable = stability_rerun(sc, spec(b.n_unstable));
   if (c.engine.kind == EngineKind::custom)
     row.predicted_dt = cloth::predicted_stable_dt(c.engine.solver.integrator, spectrum);
-  row.cause = cause_of(c, b, grid, spectrum, row.predicted_dt, dt_max);
+  row.cause = cause_of(c, b, grid, spectrum, row.predicted_dt, dt_max, sc.max_run_seconds);
   // a ratio only between two limits: a bound or a missing measurement gives none
   if (b.n_stable > 0 && b.n_unstable > 0 && std::isfinite(row.predicted_dt))
     row.ratio = row.stable_dt / row.predicted_dt;
@@ -155,6 +171,7 @@ StabilityBracket search(const Scenario& sc, const StabilityConfig& c, const Step
 std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptions& o) {
   // plan: what to search, in which folder, on which step grid
   check_options(o);
+  check_step_count(sc, o);
   const std::vector<StabilityConfig> configs = plan_configs(sc, o);
   const std::string dir = prepare_folder(sc, o);
   SweepTable table(dir + "stability.csv", stability_header(), 2, o.resume);

@@ -21,7 +21,8 @@ std::string run_summary(const RunResult& result) {
         << (engine_kind_info(r.spec.kind).has_integrators
                 ? cloth::integrator_name(r.spec.solver.integrator)
                 : engine_kind_name(r.spec.kind))
-        << ',' << format_double(r.spec.dt) << ',' << (r.stable ? "yes" : "no") << ','
+        << ',' << format_double(r.spec.dt) << ','
+        << (r.stable ? "yes" : r.timed_out ? "timeout" : "no") << ','
         << format_double(
                std::round(1e7 * r.wall_s / std::max<double>(1, double(r.counters.steps))) / 10)
         << ',' << format_double(r.max_energy_error) << ','

@@ -30,6 +30,11 @@ SweepTable::SweepTable(std::string path, std::vector<std::string> header, int ke
                       join(m_header, m_header.size()));
     for (const CsvRecord& r : earlier.records) {
       if (r.size() != m_header.size()) continue;  // not a row of this table
+      if (m_index.count(key(r.fields())))
+        throw UserError(m_path + ":" + std::to_string(r.line()) +
+                        ": cannot resume: a second row for " + key(r.fields()) +
+                        " (each configuration has one row); remove one of them "
+                        "or run without --resume");
       m_index[key(r.fields())] = m_rows.size();
       m_rows.push_back(r.fields());
       m_kept.insert_or_assign(key(r.fields()), r);
@@ -46,9 +51,14 @@ void SweepTable::write_kept() {
   // rewrite what was kept (drops a partial last line), then append from there
   m_file = std::fopen(m_path.c_str(), "w");
   if (!m_file) throw UserError("cannot write " + m_path + ": " + std::strerror(errno));
-  std::fprintf(m_file, "%s\n", join(m_header, m_header.size()).c_str());
-  for (const auto& r : m_rows) std::fprintf(m_file, "%s\n", join(r, r.size()).c_str());
-  std::fflush(m_file);
+  write_line(join(m_header, m_header.size()));
+  for (const auto& r : m_rows) write_line(join(r, r.size()));
+}
+
+void SweepTable::write_line(const std::string& line) {
+  // a row counts as kept only once it is on disk: a full disk fails the sweep, naming the file
+  if (std::fprintf(m_file, "%s\n", line.c_str()) < 0 || std::fflush(m_file) != 0)
+    throw UserError("cannot write " + m_path + ": " + std::strerror(errno));
 }
 
 std::string SweepTable::key(const std::vector<std::string>& fields) const {
@@ -72,8 +82,7 @@ void SweepTable::append(const std::vector<std::string>& fields) {
   std::lock_guard<std::mutex> lock(m_mutex);
   m_index[key(fields)] = m_rows.size();
   m_rows.push_back(fields);
-  std::fprintf(m_file, "%s\n", join(fields, fields.size()).c_str());
-  std::fflush(m_file);
+  write_line(join(fields, fields.size()));
 }
 
 void SweepTable::finish(const std::vector<std::string>& key_order) {

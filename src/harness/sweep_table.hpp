@@ -20,7 +20,8 @@ class SweepTable {
  public:
   /// Opens path. With resume, rows already in the file (same header, as many fields) are kept
   /// and done() reports them; otherwise the file is started anew. Throws UserError naming the
-  /// file when it cannot be written or its header differs.
+  /// file when it cannot be written or its header differs, and the line of a second row with
+  /// the same key.
   SweepTable(std::string path, std::vector<std::string> header, int key_columns, bool resume);
   ~SweepTable();
   SweepTable(const SweepTable&) = delete;
@@ -32,13 +33,15 @@ class SweepTable {
   bool done(const std::string& key) const;
   /// The row with this key kept from the earlier sweep, as read (nullptr when none).
   const CsvRecord* kept(const std::string& key) const;
-  /// Appends a row and flushes it to disk (thread-safe).
+  /// Appends a row and flushes it to disk (thread-safe); throws UserError naming the file
+  /// when it cannot be written (a full disk).
   void append(const std::vector<std::string>& fields);
   /// Rewrites the file with rows in the order of keys (rows with other keys after them).
   void finish(const std::vector<std::string>& key_order);
 
  private:
   void write_kept();
+  void write_line(const std::string& line);
 
   std::string m_path;
   std::vector<std::string> m_header;

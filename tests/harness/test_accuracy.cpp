@@ -411,3 +411,35 @@ TEST_CASE("accuracy sweep: options a user can get wrong", "[sweep]") {
   o.integrators = {"rk5"};
   CHECK_THROWS_WITH(run_accuracy(sc, o), Catch::Contains("no such integrator"));
 }
+
+TEST_CASE("recommendations: a NaN error, cost or tolerance never passes", "[sweep]") {
+  const double nan = std::nan("");
+  const auto row = [](const std::string& engine, const std::string& integrator, double error,
+                      double wall) {
+    AccuracyRow r;
+    r.engine = engine;
+    r.integrator = integrator;
+    r.particles = 4;
+    r.dt = 1e-3;
+    r.stable = true;
+    r.error_max = r.error_final = error;
+    r.force_evals = 100;
+    r.wall_s_per_sim_s = wall;
+    return r;
+  };
+  // a stable row with a NaN error is not within any tolerance
+  std::vector<AccuracyRow> rows = {row("custom", "rk4", nan, 1.0)};
+  std::vector<Recommendation> rec = recommend_all(rows, {"custom"}, 1.0, &AccuracyRow::error_max);
+  CHECK_FALSE(rec[0].found);
+  CHECK_FALSE(rec[1].found);
+  // nothing is within a NaN tolerance
+  rows = {row("custom", "rk4", 1e-6, 1.0)};
+  rec = recommend_all(rows, {"custom"}, nan, &AccuracyRow::error_max);
+  CHECK_FALSE(rec[0].found);
+  // a Bullet row whose wall time is NaN does not win overall because it comes first
+  rows = {row("bullet", "", 1e-6, nan), row("custom", "rk4", 1e-6, 5.0)};
+  rec = recommend_all(rows, {"bullet", "custom"}, 1e-3, &AccuracyRow::error_max);
+  REQUIRE(rec.size() == 3);
+  CHECK(rec[2].found);
+  CHECK(rec[2].engine == "custom");
+}

@@ -477,3 +477,28 @@ TEST_CASE("a [mirror] engine's shape passes as the recorded one or its mirror im
   });
   CHECK_FALSE(shape_gate().pass);
 }
+
+TEST_CASE("a negative or NaN tolerance and an unknown key are refused with file, line and key",
+          "[regression]") {
+  const Workspace w;
+  const std::string sc = w.scenario("tiny_chain.toml", 1000, {"rk4"});
+  // chain_tolerances puts final_shape_rms on line 1 and the [stability] keys from line 12
+  const std::string file = (w.chain / "tolerances.toml").string();
+  const auto refused = [&](const std::string& tolerances, const std::string& message) {
+    write(w.chain / "tolerances.toml", tolerances);
+    CHECK_THROWS_WITH(check_scenario(sc, w.update()), Catch::Contains(file + message));
+  };
+  const std::string rest = chain_tolerances({}).substr(chain_tolerances({}).find('\n') + 1);
+  refused("final_shape_rms = { abs = -1 }\n" + rest,
+          ":1: final_shape_rms.abs: expected a finite number >= 0, got -1");
+  refused("final_shape_rms = { abs = nan }\n" + rest,
+          ":1: final_shape_rms.abs: expected a finite number >= 0, got nan");
+  refused("final_shape_rms = { rel = -inf }\n" + rest,
+          ":1: final_shape_rms.rel: expected a finite number >= 0, got -inf");
+  refused("final_shape_rms = { abs = 0, absolute = 1 }\n" + rest,
+          ":1: final_shape_rms.absolute: unknown key (expected one of abs, rel)");
+  refused(chain_tolerances({"symplectic-euler"}) + "rel_tolerance = 0.1\n",
+          ":15: stability.rel_tolerance: unknown key");
+  refused(chain_tolerances({"symplectic-euler"}) + "[mirror]\nengine = [\"custom-rk4\"]\n",
+          ":16: mirror.engine: unknown key (expected one of engines)");
+}

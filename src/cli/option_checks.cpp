@@ -1,0 +1,57 @@
+/// @file option_checks.cpp
+
+#include "option_checks.hpp"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "harness/user_error.hpp"
+
+namespace clothbench::cli {
+
+CLI::Validator positive_number() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        const double v = std::strtod(text.c_str(), &end);
+        if (text.empty() || *end != '\0' || !std::isfinite(v) || !(v > 0))
+          return "expected a finite number > 0, got \"" + text + "\"";
+        return "";
+      },
+      "NUMBER > 0");
+}
+
+CLI::Validator positive_integer() {
+  return CLI::Validator(
+      [](std::string& text) -> std::string {
+        char* end = nullptr;
+        errno = 0;
+        const long long v = std::strtoll(text.c_str(), &end, 10);
+        if (text.empty() || *end != '\0' || errno == ERANGE || v <= 0 || v > 1000000000)
+          return "expected a whole number from 1 to 1e9, got \"" + text + "\"";
+        return "";
+      },
+      "INTEGER > 0");
+}
+
+void add_max_run_seconds(CLI::App* sub, double& seconds) {
+  sub->add_option("--max-run-seconds", seconds,
+                  "wall-clock budget of each engine run (s): a run that takes longer stops and\n"
+                  "counts as unstable with cause timeout (default: no limit)")
+      ->check(positive_number());
+}
+
+void require_known_command(const CLI::App& app, int argc, char** argv) {
+  if (argc < 2 || argv[1][0] == '-') return;  // options first: CLI11 says what is wrong
+  const std::string word = argv[1];
+  std::string known;
+  for (const CLI::App* sub : app.get_subcommands({})) {
+    if (sub->get_name() == word) return;
+    known += (known.empty() ? "" : ", ") + sub->get_name();
+  }
+  throw UserError("unknown command \"" + word + "\"; the commands are " + known +
+                  " (clothbench --help says what each does)");
+}
+
+}  // namespace clothbench::cli

@@ -1,0 +1,25 @@
+#pragma once
+/// @file option_checks.hpp
+/// Checks of command-line values with readable messages (CLI11's own ranges print their
+/// bounds with 300 digits and let "nan" through).
+
+#include <CLI/CLI.hpp>
+#include <string>
+#include <vector>
+
+namespace clothbench::cli {
+
+/// A finite number > 0 ("nan", "inf", 0 and negatives are refused, naming the value).
+CLI::Validator positive_number();
+
+/// A whole number > 0.
+CLI::Validator positive_integer();
+
+/// Adds --max-run-seconds to sub, stored in seconds.
+void add_max_run_seconds(CLI::App* sub, double& seconds);
+
+/// Throws UserError when argv names a command the app does not have
+/// (CLI11 alone says "A subcommand is required"): names it and lists the known ones.
+void require_known_command(const CLI::App& app, int argc, char** argv);
+
+}  // namespace clothbench::cli
