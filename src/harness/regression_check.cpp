@@ -146,9 +146,14 @@ void read_ungated_table(const fs::path& p, const toml::table& u,
 
 Tolerances read_tolerances(const fs::path& p) {
   Tolerances t;
+  const std::string text = read_file(p);
+  // a structurally extreme file would exhaust the parser's stack before it could complain
+  if (const auto problem = toml_structure_problem(text))
+    throw UserError(p.string() + ":" + std::to_string(problem->first) +
+                    ": not a tolerance file: " + problem->second);
   toml::table root;
   try {
-    root = toml::parse(read_file(p), p.string());
+    root = toml::parse(text, p.string());
   } catch (const toml::parse_error& e) {
     throw UserError(p.string() + ":" + std::to_string(e.source().begin.line) + ": " +
                     std::string(e.description()));
