@@ -34,7 +34,8 @@ class Schema:
 SCHEMAS = {
     "frames.csv": Schema(
         ["engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
-         "total_energy", "energy_error", "max_strain", "mean_strain", "com_x", "com_y", "com_z",
+         "contact_work", "unbooked", "total_energy", "energy_error", "max_strain", "mean_strain",
+         "com_x", "com_y", "com_z",
          "min_y", "max_penetration", "shadow_area", "stable"],
         text=["engine"], flags=["stable"], keys=["engine", "t", "stable"]),
     "divergence.csv": Schema(

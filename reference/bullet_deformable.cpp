@@ -67,6 +67,10 @@ class BulletDeformableCloth final : public BulletCloth {
   void advance(double dt) override {
     step_world(*m_world, m_world->getWorldInfo(), *m_spheres, time(), dt);
   }
+  bool had_contact() const override {
+    // the step's node and face contacts with rigid bodies (cleared as the next step begins)
+    return m_body->m_nodeRigidContacts.size() > 0 || m_body->m_faceRigidContacts.size() > 0;
+  }
 
   // declared in the order they are needed, so they are freed in reverse
   CollisionParts m_parts;

@@ -85,6 +85,7 @@ class BulletSoftBodyCloth final : public BulletCloth {
     }
     step_world(*m_world, m_world->getWorldInfo(), *m_spheres, time(), dt);
   }
+  bool had_contact() const override { return m_body->m_rcontacts.size() > 0; }
 
   BulletOptions m_options;
   double m_dt;

@@ -8,8 +8,10 @@ from . import style
 STEM = "energy"
 TITLE = "Energy over time"
 CAPTION = ("Energy over time per engine (left): kinetic, gravity potential relative to its initial "
-           "value, elastic potential and the energy dissipated by damping and contact. Right: the "
-           "energy error, total + dissipated − initial total, which is zero for an exact "
+           "value, elastic potential, the energy dissipated by dampers and drag, the net work of "
+           "the contact response and, for a Bullet engine, the unbooked balance of its steps "
+           "with a contact (each drawn where it is not zero). Right: the energy error, total + "
+           "dissipated − contact work − unbooked − initial total, which is zero for an exact "
            "integrator.")
 
 # frames.csv column, legend text, colour
@@ -18,6 +20,8 @@ QUANTITIES = [
     ("gravity_potential", "gravity potential − initial", "tab:green"),
     ("elastic_potential", "elastic potential", "tab:orange"),
     ("dissipated", "dissipated", "tab:purple"),
+    ("contact_work", "contact work", "tab:brown"),
+    ("unbooked", "unbooked", "tab:gray"),
 ]
 
 
@@ -70,6 +74,8 @@ def draw(folders, ctx):
             ls = style.RUN_STYLES[k]
             t = rows["t"]
             for col, text, color in QUANTITIES:
+                if col not in rows.columns or not np.any(rows[col]):
+                    continue  # a book the engine does not keep (or a folder from before it)
                 y = rows[col]
                 if col == "gravity_potential" and len(y):
                     y = y - y[0]

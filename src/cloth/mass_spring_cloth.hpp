@@ -23,6 +23,8 @@ class MassSpringCloth final : public Simulator {
   const Matrix3X& velocities() const override { return m_v; }
   double time() const override { return m_t; }
   double dissipated() const override { return m_dissipated; }
+  /// Work of the contact projection and velocity response, booked exactly every step.
+  double contact_work() const override { return m_contact_work; }
   Counters counters() const override { return m_counters; }
 
   /// Replaces the state (tests start from chosen velocities). Held axes keep their values.
@@ -39,12 +41,15 @@ class MassSpringCloth final : public Simulator {
 
  private:
   void step_implicit_euler(double h);
+  /// Resolves sphere contacts after a step and books their work in m_contact_work.
+  void resolve_contacts();
 
   Model m_model;
   SolverOptions m_options;
   Matrix3X m_x, m_v;
   double m_t = 0;
-  double m_dissipated = 0;
+  double m_dissipated = 0;    // J, dampers and drag
+  double m_contact_work = 0;  // J, net work of the contact response
   Counters m_counters;
 
   // scratch, sized once

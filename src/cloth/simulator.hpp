@@ -31,8 +31,16 @@ class Simulator {
   virtual const Matrix3X& velocities() const = 0;
   /// Simulated time (s).
   virtual double time() const = 0;
-  /// Energy taken out by damping, drag and contact since the start (J).
+  /// Energy taken out by the spring dampers and air drag since the start (J).
   virtual double dissipated() const = 0;
+  /// Net work of the contact response since the start (J): the energy it added (lifting
+  /// particles out of an obstacle against gravity and springs) minus the energy it removed
+  /// (the normal velocity it cancels, friction); 0 for an engine that cannot separate it.
+  virtual double contact_work() const { return 0.0; }
+  /// Energy change the engine's books cannot attribute (J): for a Bullet engine, the whole
+  /// energy balance of the steps in which a contact acted (its contact work and its scheme's
+  /// error in that step, which Bullet does not report apart); 0 for the custom engine.
+  virtual double unbooked() const { return 0.0; }
   /// Cost so far.
   virtual Counters counters() const = 0;
 };

@@ -73,16 +73,18 @@ double shadow_area(const cloth::Model& model, const Eigen::Vector3d& gravity, co
 }
 
 FrameMetrics frame_metrics(const cloth::Model& model, double t, const Matrix3X& x,
-                           const Matrix3X& v, double dissipated, double e0) {
+                           const Matrix3X& v, const EnergyBooks& books, double e0) {
   FrameMetrics m;
   m.t = t;
   const cloth::Energies e = cloth::compute_energies(model, x, v);
   m.kinetic = e.kinetic;
   m.gravity_potential = e.gravity_potential;
   m.elastic_potential = e.elastic_potential;
-  m.dissipated = dissipated;
+  m.dissipated = books.dissipated;
+  m.contact_work = books.contact_work;
+  m.unbooked = books.unbooked;
   m.total_energy = e.total();
-  m.energy_error = m.total_energy + dissipated - e0;
+  m.energy_error = energy_error(m.total_energy, books, e0);
   const cloth::StrainStats s = cloth::strain_stats(model.springs, x);
   m.max_strain = s.max_abs;
   m.mean_strain = s.mean_abs;
@@ -91,6 +93,57 @@ FrameMetrics frame_metrics(const cloth::Model& model, double t, const Matrix3X& 
   m.max_penetration = cloth::max_penetration(model.spheres, t, x);
   m.shadow_area = shadow_area(model, model.gravity, x);
   return m;
+}
+
+EnergyScale::EnergyScale(const cloth::Model& model) {
+  const Eigen::Vector3d extent = model.x0.rowwise().maxCoeff() - model.x0.rowwise().minCoeff();
+  m_weight_extent = model.mass.sum() * model.gravity.norm() * extent.maxCoeff();
+}
+
+void EnergyScale::observe(double kinetic, double elastic) {
+  m_kinetic = std::max(m_kinetic, kinetic);
+  m_elastic = std::max(m_elastic, elastic);
+}
+
+namespace {
+
+// the net force on particle p less what the spheres can push back with
+Eigen::Vector3d unbalanced_force(const cloth::Model& model, double t, const Matrix3X& x, int p,
+                                 Eigen::Vector3d f) {
+  for (const cloth::Sphere& s : model.spheres) {
+    const Eigen::Vector3d d = x.col(p) - s.center_at(t);
+    const double dist = d.norm();
+    if (!(dist > 0) || dist > s.radius + 2.0 * s.margin) continue;
+    const Eigen::Vector3d n = d / dist;
+    const double fn = f.dot(n);
+    if (fn >= 0) continue;  // pulled away: the sphere cannot hold it
+    // the normal push cancels fn; friction takes up to mu |fn| of the tangential rest
+    f -= fn * n;
+    const double ft = f.norm();
+    const double grip = s.friction * -fn;
+    f = ft > grip ? Eigen::Vector3d(f * (1.0 - grip / ft)) : Eigen::Vector3d::Zero();
+  }
+  return f;
+}
+
+}  // namespace
+
+double static_residual(const cloth::Model& model, double t, const Matrix3X& x, const Matrix3X& v) {
+  const double g = model.gravity.norm();
+  if (!(g > 0)) return NAN;
+  Matrix3X f = Matrix3X::Zero(3, x.cols()), buf(3, x.cols());
+  cloth::add_spring_forces(model.springs, x, v, f, buf);
+  f -= model.air_drag * v;
+  double worst = 0;
+  for (int p = 0; p < static_cast<int>(x.cols()); ++p) {
+    if (model.free.col(p).isZero()) continue;
+    const Eigen::Vector3d net = f.col(p) + model.mass[p] * model.gravity;
+    const Eigen::Vector3d left =
+        unbalanced_force(model, t, x, p, net).cwiseProduct(model.free.col(p));
+    const double r = left.norm() / (model.mass[p] * g);
+    if (!(r <= worst)) worst = r;  // NaN propagates
+  }
+  return worst;
 }
 
 Divergence divergence(const Matrix3X& x, const FrameMetrics& m, const Matrix3X& x_ref,

@@ -10,15 +10,31 @@
 
 namespace clothbench {
 
+/// What an engine has booked of its energy since the start (J): the terms of the balance
+///   energy_error = total + dissipated - contact_work - unbooked - initial total.
+struct EnergyBooks {
+  double dissipated = 0;    // J, taken out by the spring dampers and air drag
+  double contact_work = 0;  // J, net work of the contact response (custom engine)
+  double unbooked = 0;      // J, balance of a Bullet engine's steps with a contact
+};
+
+/// The energy error (J) of a state whose total energy is total, with books kept since a start
+/// whose total energy was e0: what the engine's scheme created (> 0) or lost (< 0).
+inline double energy_error(double total, const EnergyBooks& books, double e0) {
+  return total + books.dissipated - books.contact_work - books.unbooked - e0;
+}
+
 /// One row of frames.csv (without the engine name).
 struct FrameMetrics {
   double t = 0;                  // s
   double kinetic = 0;            // J
   double gravity_potential = 0;  // J
   double elastic_potential = 0;  // J
-  double dissipated = 0;         // J, taken out by dampers, drag and contact so far
+  double dissipated = 0;         // J, taken out by dampers and drag so far
+  double contact_work = 0;       // J, net work of the contact response so far
+  double unbooked = 0;           // J, balance no book explains (Bullet contact steps)
   double total_energy = 0;       // J, kinetic + both potentials
-  double energy_error = 0;       // J, total + dissipated - initial total
+  double energy_error = 0;       // J, total + dissipated - contact_work - unbooked - initial
   double max_strain = 0;         // largest |l / l0 - 1|
   double mean_strain = 0;        // mean |l / l0 - 1|
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  // m, mass-weighted centre
@@ -50,7 +66,37 @@ double shadow_area(const cloth::Model& model, const Eigen::Vector3d& gravity,
 /// @param x  3 by #P positions (m)
 /// @param v  3 by #P velocities (m/s)
 FrameMetrics frame_metrics(const cloth::Model& model, double t, const cloth::Matrix3X& x,
-                           const cloth::Matrix3X& v, double dissipated, double e0);
+                           const cloth::Matrix3X& v, const EnergyBooks& books, double e0);
+
+/// The energy scale of the blow-up test (J): the cloth's weight times its largest rest extent
+/// (the work of lifting the cloth by its own size, which bounds the potential energy a drape
+/// exchanges) plus the largest kinetic and the largest elastic energy seen so far. Every term
+/// is unchanged by moving the origin, so the test does not depend on where y = 0 is.
+class EnergyScale {
+ public:
+  /// @param model  the scene: masses, gravity and rest positions x0 (3 by #P)
+  explicit EnergyScale(const cloth::Model& model);
+  /// Takes the kinetic and elastic energy (J) of a state into the running maxima.
+  void observe(double kinetic, double elastic);
+  /// The scale (J).
+  double value() const { return m_weight_extent + m_kinetic + m_elastic; }
+
+ private:
+  double m_weight_extent = 0;  // J
+  double m_kinetic = 0;        // J, largest so far
+  double m_elastic = 0;        // J, largest so far
+};
+
+/// Static residual of state (x, v): the largest net force (springs, dampers, drag and
+/// gravity) on a particle with a free axis, over the free axes, divided by that particle's
+/// weight; 0 at an exact equilibrium. A particle within a margin of a sphere's contact shell
+/// (radius + 2 margin) gets the force the sphere can give: a push along the outward normal
+/// that cancels the net force into the sphere, and Coulomb friction up to mu times that push
+/// against the tangential rest. NaN for a scene without gravity.
+/// @param x  3 by #P positions (m)
+/// @param v  3 by #P velocities (m/s)
+double static_residual(const cloth::Model& model, double t, const cloth::Matrix3X& x,
+                       const cloth::Matrix3X& v);
 
 /// Divergence of state x (3 by #P) from the reference state x_ref, with their metrics.
 Divergence divergence(const cloth::Matrix3X& x, const FrameMetrics& m, const cloth::Matrix3X& x_ref,

@@ -36,6 +36,41 @@ bool over_budget(const Scenario& sc, std::chrono::steady_clock::time_point start
            sc.max_run_seconds);
 }
 
+/// What engine sim has booked of its energy so far.
+EnergyBooks books_of(const cloth::Simulator& sim) {
+  return EnergyBooks{sim.dissipated(), sim.contact_work(), sim.unbooked()};
+}
+
+/// The energy half of the blow-up test: a run fails once its energy error, the energy its
+/// scheme created, exceeds blowup_energy times the EnergyScale. One-sided: a scheme that loses
+/// energy (backward Euler's numerical damping) is dissipative, not unstable.
+class EnergyTest {
+ public:
+  /// Starts the books at sim's current (initial) state.
+  EnergyTest(const cloth::Model& model, const cloth::Simulator& sim, double blowup_energy)
+      : m_model(model), m_sim(sim), m_scale(model), m_limit(blowup_energy) {
+    const cloth::Energies e = cloth::compute_energies(model, sim.positions(), sim.velocities());
+    m_e0 = e.total();
+    m_scale.observe(e.kinetic, e.elastic_potential);
+  }
+  /// Total energy at the start (J).
+  double e0() const { return m_e0; }
+  /// Whether the current state fails the test (its energies join the scale first).
+  bool failed() {
+    const cloth::Energies e =
+        cloth::compute_energies(m_model, m_sim.positions(), m_sim.velocities());
+    m_scale.observe(e.kinetic, e.elastic_potential);
+    return energy_error(e.total(), books_of(m_sim), m_e0) > m_limit * m_scale.value();
+  }
+
+ private:
+  const cloth::Model& m_model;
+  const cloth::Simulator& m_sim;
+  EnergyScale m_scale;
+  double m_limit;
+  double m_e0 = 0;  // J
+};
+
 }  // namespace
 
 EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
@@ -47,13 +82,21 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   const long long frames = std::llround(sc.duration / sc.frame_interval);
   const long long frames_per_snapshot =
       sc.snapshot_interval > 0 ? std::llround(sc.snapshot_interval / sc.frame_interval) : 0;
-  const double e0 = cloth::compute_energies(model, sim->positions(), sim->velocities()).total();
+  const long long steps_per_check =
+      std::clamp(std::llround(kEnergyCheckInterval / spec.dt), 1LL, steps_per_frame);
+  EnergyTest energy_test(model, *sim, sc.blowup_energy);
+  const double e0 = energy_test.e0();
+  auto fail = [&](const char* cause) {
+    run.stable = false;
+    run.cause = cause;
+    run.blowup_t = sim->time();
+  };
 
   // frames sit on the exact grid k * frame_interval; a blow-up row at the failing step's time
   auto log_frame = [&](long long frame, bool stable) {
     const double t = stable ? double(frame) * sc.frame_interval : sim->time();
     FrameMetrics m =
-        frame_metrics(model, t, sim->positions(), sim->velocities(), sim->dissipated(), e0);
+        frame_metrics(model, t, sim->positions(), sim->velocities(), books_of(*sim), e0);
     m.stable = stable;
     // a NaN energy error sticks (std::max would drop it and let the gate pass)
     if (stable && !std::isnan(run.max_energy_error) &&
@@ -83,9 +126,14 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
       sim->step(spec.dt);
       run.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       if (!cloth::within_strain(model.springs, sim->positions(), sc.blowup_strain)) {
-        run.stable = false;
-        run.blowup_t = sim->time();
+        fail(sim->positions().allFinite() ? "strain" : "non-finite");
         break;
+      }
+      if ((s + 1) % steps_per_check == 0 || s + 1 == steps_per_frame) {
+        if (energy_test.failed()) {
+          fail("energy");
+          break;
+        }
       }
     }
     log_frame(f, run.stable);
@@ -100,6 +148,9 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
     if (last || (frames_per_snapshot > 0 && f % frames_per_snapshot == 0)) snapshot();
   }
   run.counters = sim->counters();
+  run.final_kinetic = run.frames.back().kinetic;
+  run.final_static_residual =
+      static_residual(model, sim->time(), sim->positions(), sim->velocities());
   return run;
 }
 
@@ -146,7 +197,8 @@ RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
             : run.timed_out ? "timeout: stopped at t = " + format_double(run.frames.back().t) +
                                   " s after --max-run-seconds " +
                                   format_double(sc.max_run_seconds) + " s"
-                            : "unstable at t = " + format_double(run.blowup_t) + " s");
+                            : "unstable (" + run.cause + ") at t = " + format_double(run.blowup_t) +
+                                  " s");
     if (run.counters.cg_unconverged > 0)
       msg << "; " << run.counters.cg_unconverged
           << " linear solves stopped at cg_max_iterations before reaching cg_tolerance";
@@ -210,7 +262,8 @@ void write_frames(const RunResult& result, CsvWriter& frames) {
   for (const EngineRun& run : result.runs)
     for (const FrameMetrics& m : run.frames) {
       frames.add(run.spec.name).add(m.t).add(m.kinetic).add(m.gravity_potential);
-      frames.add(m.elastic_potential).add(m.dissipated).add(m.total_energy).add(m.energy_error);
+      frames.add(m.elastic_potential).add(m.dissipated).add(m.contact_work).add(m.unbooked);
+      frames.add(m.total_energy).add(m.energy_error);
       frames.add(m.max_strain).add(m.mean_strain).add(m.com.x()).add(m.com.y()).add(m.com.z());
       frames.add(m.min_y).add(m.max_penetration).add(m.shadow_area).add(m.stable ? 1 : 0);
       frames.end_row();
@@ -273,7 +326,7 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
       summary.skip();
     else
       summary.add(dc);
-    summary.end_row();
+    summary.add(run.final_kinetic).add(run.final_static_residual).end_row();
   }
 }
 
@@ -302,8 +355,8 @@ void write_run(const RunResult& result, const std::string& dir) {
   CsvWriter frames(
       dir + "/frames.csv",
       {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
-       "total_energy", "energy_error", "max_strain", "mean_strain", "com_x", "com_y", "com_z",
-       "min_y", "max_penetration", "shadow_area", "stable"});
+       "contact_work", "unbooked", "total_energy", "energy_error", "max_strain", "mean_strain",
+       "com_x", "com_y", "com_z", "min_y", "max_penetration", "shadow_area", "stable"});
   write_frames(result, frames);
   CsvWriter div(dir + "/divergence.csv",
                 {"engine", "reference", "t", "rms_distance", "max_distance", "com_distance",
@@ -314,7 +367,8 @@ void write_run(const RunResult& result, const std::string& dir) {
   CsvWriter summary(dir + "/summary.csv",
                     {"engine", "kind", "integrator", "dt", "steps", "wall_s", "us_per_step",
                      "force_evals", "stable", "blowup_t", "max_energy_error",
-                     "final_rms_vs_reference", "max_rms_vs_reference", "drape_coefficient"});
+                     "final_rms_vs_reference", "max_rms_vs_reference", "drape_coefficient",
+                     "final_kinetic", "static_residual"});
   write_summary(result, summary);
   AtomicFile toml(dir + "/scenario.toml");
   toml.write(scenario_to_toml(result.scenario));

@@ -30,6 +30,9 @@ struct EngineRun {
                            // blowup_t NaN)
   double blowup_t = std::numeric_limits<double>::quiet_NaN();  // s, first unstable step
   double max_energy_error = 0;  // J, largest |energy_error| while stable
+  std::string cause;  // why the run became unstable: non-finite, strain or energy ("" if stable)
+  double final_kinetic = 0;          // J, kinetic energy of the last logged state
+  double final_static_residual = 0;  // static_residual() of the last logged state
 };
 
 /// Run-wide options.
@@ -58,9 +61,15 @@ struct Interrupted : std::runtime_error {
 
 /// Runs one engine of sc over the scenario's duration, logging a frame every frame_interval.
 /// Stops at the first step where a coordinate is not finite or |strain| > blowup_strain, or
+/// at the first energy check (every frame, and at least every kEnergyCheckInterval of
+/// simulated time) where the energy error exceeds blowup_energy times the EnergyScale, or
 /// once the run has taken sc.max_run_seconds of wall clock (when > 0): a timeout.
 EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
                      Progress* progress, bool keep_positions);
+
+/// Longest simulated time (s) between two energy checks of a run: a stability trial is one
+/// frame long, and a blow-up that grows and then decays within it must still be seen.
+constexpr double kEnergyCheckInterval = 0.01;
 
 /// Runs the scenario's engines (all engines are built first, so a bad one fails before any
 /// work). Throws std::invalid_argument for an engine filter naming no engine.

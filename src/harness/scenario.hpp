@@ -43,6 +43,8 @@ struct Scenario {
   double frame_interval = 0.01;    // s between metric rows
   double snapshot_interval = 0.0;  // s between full-shape snapshots; 0: initial and final only
   double blowup_strain = 1.0;      // a run is unstable once |strain| exceeds this
+  double blowup_energy = 0.1;      // ... or once the energy error exceeds this times the
+                                   // run's EnergyScale (see metrics.hpp)
   std::string reference;           // engine the others are compared against ("" = the first)
   cloth::Scene scene;              // scene.held is filled from constraints
   std::vector<ConstraintSpec> constraints;

@@ -10,7 +10,7 @@ namespace clothbench {
 
 const Keys kTopKeys = {
     "name",          "description", "duration", "frame_interval", "snapshot_interval",
-    "blowup_strain", "reference",   "gravity",  "cloth",          "constraint",
+    "blowup_strain", "blowup_energy", "reference", "gravity", "cloth", "constraint",
     "sphere",        "engine"};
 const Keys kClothKeys = {"particles",  "size",      "center",  "plane",   "particle_mass",
                          "total_mass", "stiffness", "damping", "air_drag"};

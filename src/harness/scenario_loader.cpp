@@ -269,6 +269,7 @@ void read_header(const Reader& r, const toml::table& root, Scenario& s) {
                " s, got snapshot_interval = " + toml_double(s.snapshot_interval) + " s");
   }
   s.blowup_strain = r.number(at, "blowup_strain", s.blowup_strain, kPositive);
+  s.blowup_energy = r.number(at, "blowup_energy", s.blowup_energy, kPositive);
 }
 
 /// Gravity, the cloth, its constraints and the spheres.

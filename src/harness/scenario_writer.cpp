@@ -31,6 +31,7 @@ std::string scenario_to_toml(const Scenario& s) {
     << "frame_interval = " << d(s.frame_interval) << "  # s\n"
     << "snapshot_interval = " << d(s.snapshot_interval) << "  # s\n"
     << "blowup_strain = " << d(s.blowup_strain) << "\n"
+    << "blowup_energy = " << d(s.blowup_energy) << "\n"
     << "reference = "
     << toml_string(!s.reference.empty() || s.engines.empty() ? s.reference : s.engines.front().name)
     << "\n";

@@ -114,10 +114,7 @@ bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause) {
   s.snapshot_interval = 0;
   const cloth::Model model = cloth::build_model(s.scene);
   const EngineRun run = run_engine(s, e, model, nullptr, false);
-  if (!run.stable && cause)
-    *cause = run.timed_out ? "timeout"
-             : std::isfinite(run.frames.back().max_strain) ? "strain"
-                                                           : "non-finite";
+  if (!run.stable && cause) *cause = run.timed_out ? "timeout" : run.cause;
   return run.stable;
 }
 

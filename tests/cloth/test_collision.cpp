@@ -1,7 +1,9 @@
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <vector>
 
+#include "cloth/energies.hpp"
 #include "cloth/mass_spring_cloth.hpp"
 #include "cloth/sphere_collision.hpp"
 #include "tolerances.hpp"
@@ -153,4 +155,51 @@ TEST_CASE("a scene without spheres pays nothing for collision", "[collision]") {
   // cost in distance tests, not seconds: every particle against the sphere, or nothing at all
   CHECK(a.counters().contact_tests == 100 * 9);
   CHECK(b.counters().contact_tests == 0);
+}
+
+TEST_CASE("contact work is booked exactly when a particle is pushed out of a sphere",
+          "[collision]") {
+  // One particle 5 mm inside the unit sphere's contact shell on the pole, moving in at
+  // 0.3 m/s; its partner far away. A symplectic Euler step moves it further in, the projection
+  // lifts it back onto the shell against gravity (work m g lift) and cancels the normal
+  // velocity (work -1/2 m v^2): no springs, so that is all the contact does.
+  const Scene s = dust(2, 1, 1.0, 1.5, 0.0);
+  SolverOptions o;
+  o.integrator = Integrator::symplectic_euler;
+  MassSpringCloth c(s, o);
+  const double shell = 1.0 + s.spheres[0].margin, h = 1e-3, g = 9.8, m = 1.0, u = 0.3;
+  Matrix3X x = c.positions(), v = Matrix3X::Zero(3, 2);
+  x.col(0) = Vector3(0.0, shell - 0.005, 0.0);
+  x.col(1) = Vector3(5.0, 5.0, 0.0);
+  v(1, 0) = -u;
+  c.set_state(x, v);
+  c.step(h);
+  const double v_in = u + g * h;                // speed into the sphere after the step
+  const double lift = 0.005 + h * v_in;         // back onto the shell
+  const double expected = m * g * lift - 0.5 * m * v_in * v_in;
+  CHECK(c.positions()(1, 0) == Approx(shell).epsilon(1e-15));
+  CHECK(c.velocities()(1, 0) == 0.0);
+  CHECK(c.contact_work() == Approx(expected).epsilon(1e-12));
+  CHECK(c.dissipated() == 0.0);  // no damper, no drag: the contact is not dissipation
+}
+
+TEST_CASE("with the contact work booked, rk4's energy books close on a sphere", "[collision]") {
+  // Loose particles land and slide on the sphere. Between contacts each one falls freely,
+  // which rk4 integrates exactly, so E - W_contact stays E_0 to round-off although the
+  // contact work itself (projection lifts, normal velocity cancelled) is not small.
+  const Scene s = dust(5, 5, 1.2, 1.3, 0.0);
+  SolverOptions o;
+  o.integrator = Integrator::rk4;
+  MassSpringCloth c(s, o);
+  const Model& m = c.model();
+  const double e0 = compute_energies(m, c.positions(), c.velocities()).total();
+  double worst = 0.0;
+  for (int i = 0; i < 2000; ++i) {
+    c.step(1e-3);
+    const double e = compute_energies(m, c.positions(), c.velocities()).total();
+    worst = std::max(worst, std::abs(e + c.dissipated() - c.contact_work() - e0));
+  }
+  INFO("contact work " << c.contact_work() << " J, largest error " << worst << " J");
+  CHECK(std::abs(c.contact_work()) > 1.0);
+  CHECK(worst < 1e-9 * std::abs(e0));
 }

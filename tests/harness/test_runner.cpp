@@ -10,6 +10,7 @@
 #include "harness/scenario_loader.hpp"
 #include "harness/scenario_writer.hpp"
 #include "temp_dir.hpp"
+#include "test_scenes.hpp"
 
 using namespace clothbench;
 namespace fs = std::filesystem;
@@ -116,10 +117,11 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
 
   const Csv frames = read_csv(dir / "frames.csv");
   CHECK(frames.header == std::vector<std::string>{"engine", "t", "kinetic", "gravity_potential",
-                                                  "elastic_potential", "dissipated", "total_energy",
-                                                  "energy_error", "max_strain", "mean_strain",
-                                                  "com_x", "com_y", "com_z", "min_y",
-                                                  "max_penetration", "shadow_area", "stable"});
+                                                  "elastic_potential", "dissipated", "contact_work",
+                                                  "unbooked", "total_energy", "energy_error",
+                                                  "max_strain", "mean_strain", "com_x", "com_y",
+                                                  "com_z", "min_y", "max_penetration",
+                                                  "shadow_area", "stable"});
   std::map<std::string, int> rows_per_engine;
   double e0 = 0, rk4_worst = 0;
   for (size_t r = 0; r < frames.rows.size(); ++r) {
@@ -133,8 +135,13 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
     CHECK(frames.num(r, "total_energy") == Approx(total).epsilon(1e-12));
     if (k == 0) e0 = total;
     CHECK(frames.num(r, "energy_error") ==
-          Approx(total + frames.num(r, "dissipated") - e0).margin(1e-9));
+          Approx(total + frames.num(r, "dissipated") - frames.num(r, "contact_work") -
+                 frames.num(r, "unbooked") - e0)
+              .margin(1e-9));
     CHECK(frames.num(r, "dissipated") >= 0.0);
+    // the sphere is out of reach: no contact work, and a custom engine books everything
+    CHECK(frames.num(r, "contact_work") == 0.0);
+    CHECK(frames.num(r, "unbooked") == 0.0);
     CHECK(frames.num(r, "max_strain") >= frames.num(r, "mean_strain"));
     CHECK(frames.num(r, "min_y") <= frames.num(r, "com_y"));
     CHECK(frames.num(r, "max_penetration") == 0.0);
@@ -172,6 +179,9 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
   }
   CHECK(summary.num(0, "dt") == 1e-4);
   CHECK(summary.num(3, "steps") < 30);                     // stopped at the blow-up
+  // a swinging cloth is far from equilibrium, and it moves
+  CHECK(summary.num(0, "static_residual") > 0.1);
+  CHECK(summary.num(0, "final_kinetic") > 0.0);
   CHECK(summary.num(0, "final_rms_vs_reference") == 0.0);  // the reference itself
   CHECK(summary.num(1, "final_rms_vs_reference") == 0.0);  // its exact copy
   CHECK(summary.num(2, "max_rms_vs_reference") >= summary.num(2, "final_rms_vs_reference"));
@@ -340,4 +350,37 @@ dt = 1e-3
   const double draped = coefficient("0.5");
   CHECK(draped < 0.9);
   CHECK(draped > 0.0);
+}
+
+TEST_CASE("the static residual is 0 at an equilibrium and not away from one", "[runner]") {
+  // a hanging chain at its discrete statics: the spring above particle j carries the j + 1
+  // particles below it, stretched by (j + 1) m g / k
+  const int n = 10;
+  const double m = 0.1, k = 100.0, l = 0.1, g = 9.8;
+  const cloth::Model chain = cloth::build_model(clothbench::test::chain(n, m, k, l, 5.0, g));
+  cloth::Matrix3X x = chain.x0;
+  for (int j = n - 1; j >= 0; --j) x(1, j) = x(1, j + 1) - (l + (j + 1) * m * g / k);
+  const cloth::Matrix3X rest = cloth::Matrix3X::Zero(3, x.cols());
+  CHECK(static_residual(chain, 0.0, x, rest) < 1e-12);
+  // at the rest lengths nothing holds the particles up: the net force is the weight
+  CHECK(static_residual(chain, 0.0, chain.x0, rest) == Approx(1.0).epsilon(1e-12));
+  // a moving chain at its statics feels its dampers
+  cloth::Matrix3X v = rest;
+  v(1, 0) = 1.0;
+  CHECK(static_residual(chain, 0.0, x, v) > 0.1);
+
+  // a loose particle resting on a sphere 30 degrees from its pole: the sphere carries the
+  // normal part of its weight; sin 30 = 0.5 of it is left without friction, none with
+  // mu = 1 > tan 30
+  cloth::Scene s = clothbench::test::small_cloth(2, 0.0, 0.0);
+  s.spheres.push_back(cloth::Sphere{});
+  cloth::Model dust = cloth::build_model(s);
+  cloth::Matrix3X p = dust.x0;
+  const double shell = 1.0 + s.spheres[0].margin, a = M_PI / 6;
+  for (int q = 0; q < 4; ++q) p.col(q) = shell * Eigen::Vector3d(std::sin(a), std::cos(a), 0.0);
+  const cloth::Matrix3X still = cloth::Matrix3X::Zero(3, 4);
+  dust.free.setOnes();
+  CHECK(static_residual(dust, 0.0, p, still) == Approx(0.5).epsilon(1e-12));
+  dust.spheres[0].friction = 1.0;
+  CHECK(static_residual(dust, 0.0, p, still) < 1e-12);
 }

@@ -96,6 +96,7 @@ void check_same_scenario(const Scenario& a, const Scenario& b) {
   CHECK(a.frame_interval == b.frame_interval);
   CHECK(a.snapshot_interval == b.snapshot_interval);
   CHECK(a.blowup_strain == b.blowup_strain);
+  CHECK(a.blowup_energy == b.blowup_energy);
   CHECK(a.reference == b.reference);
   check_same_scene(a.scene, b.scene);
   REQUIRE(a.constraints.size() == b.constraints.size());
