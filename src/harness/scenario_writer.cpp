@@ -84,7 +84,10 @@ std::string scenario_to_toml(const Scenario& s) {
       << "dt = " << d(e.dt) << "  # s\n";
     if (e.kind == EngineKind::custom) {
       o << "integrator = " << toml_string(cloth::integrator_name(e.solver.integrator)) << "\n"
+        << "newton = " << toml_string(cloth::newton_method_name(e.solver.newton)) << "\n"
         << "newton_iterations = " << e.solver.newton_iterations << "\n"
+        << "newton_tolerance = " << d(e.solver.newton_tolerance) << "  # m/s\n"
+        << "linear_solver = " << toml_string(cloth::linear_solver_name(e.solver.linear_solver)) << "\n"
         << "cg_tolerance = " << d(e.solver.cg_tolerance) << "\n"
         << "cg_max_iterations = " << e.solver.cg_max_iterations << "\n"
         << "clamp_compressed = " << (e.solver.clamp_compressed ? "true" : "false") << "\n";
