@@ -23,8 +23,8 @@
 
 namespace cloth {
 
-/// The linear solver that `automatic` means for a line-search step of a cloth of that size.
-LinearSolver resolved_linear_solver(LinearSolver s, int particles);
+/// The linear solver that `automatic` means for a line-search step.
+LinearSolver resolved_linear_solver(LinearSolver s);
 
 /// Newton with line search for one scene; scratch sized once.
 class ImplicitEulerNewton {
