@@ -42,4 +42,14 @@ std::optional<LinearSolver> parse_linear_solver(std::string_view name) {
   return parse_in(kSolverNames, name);
 }
 
+SolverOptions line_search_options(LinearSolver solver) {
+  SolverOptions o;
+  o.integrator = Integrator::implicit_euler;
+  o.newton = NewtonMethod::line_search;
+  o.newton_iterations = kLineSearchNewtonIterations;
+  o.cg_tolerance = kLineSearchCgTolerance;
+  o.linear_solver = solver;
+  return o;
+}
+
 }  // namespace cloth

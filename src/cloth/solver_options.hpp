@@ -50,4 +50,7 @@ constexpr int kLineSearchNewtonIterations = 20;
 /// step suffices, since the line search and the residual test decide the accuracy.
 constexpr double kLineSearchCgTolerance = 1e-3;
 
+/// Implicit Euler with newton = line-search and that mode's defaults.
+SolverOptions line_search_options(LinearSolver solver = LinearSolver::automatic);
+
 }  // namespace cloth

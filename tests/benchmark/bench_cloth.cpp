@@ -62,25 +62,9 @@ void BM_step(benchmark::State& state, Integrator integrator) {
     state.counters["cg_iterations_per_step"] = double(c.cg_iterations) / double(c.steps);
 }
 
-/// The seed scene at n x n particles, the seed's total mass, corners held.
-Scene seed_at(int n) {
-  Scene s = seed_scene();
-  s.cloth.nu = s.cloth.nv = n;
-  s.cloth.particle_mass = 625.0 / (n * n);
-  s.held.assign(static_cast<size_t>(n * n), 0);
-  for (int j : {0, n - 1})
-    for (int i : {0, n - 1}) s.held[static_cast<size_t>(particle_index(s.cloth, i, j))] = kHoldAll;
-  return s;
-}
-
 void BM_newton(benchmark::State& state, LinearSolver solver) {
-  SolverOptions o;
-  o.integrator = Integrator::implicit_euler;
-  o.newton = NewtonMethod::line_search;
-  o.newton_iterations = kLineSearchNewtonIterations;
-  o.cg_tolerance = kLineSearchCgTolerance;
-  o.linear_solver = solver;
-  MassSpringCloth cloth(seed_at(static_cast<int>(state.range(0))), o);
+  const SolverOptions o = line_search_options(solver);
+  MassSpringCloth cloth(seed_scene(static_cast<int>(state.range(0))), o);
   const double h = 1.0 / 30.0;
   for (auto _ : state) cloth.step(h);
   const Counters c = cloth.counters();
@@ -93,7 +77,7 @@ void BM_newton(benchmark::State& state, LinearSolver solver) {
 void BM_symplectic(benchmark::State& state) {
   SolverOptions o;
   o.integrator = Integrator::symplectic_euler;
-  MassSpringCloth cloth(seed_at(static_cast<int>(state.range(0))), o);
+  MassSpringCloth cloth(seed_scene(static_cast<int>(state.range(0))), o);
   const double h = 1e-5;
   for (auto _ : state) cloth.step(h);
   state.counters["sim_s_per_s"] = benchmark::Counter(h, benchmark::Counter::kIsIterationInvariantRate);

@@ -11,27 +11,6 @@ namespace tol = clothbench::tol;
 
 namespace {
 
-/// The seed scene at n x n particles and the seed's total mass (625 kg), corners held.
-Scene seed_at(int n) {
-  Scene s = seed_scene();
-  s.cloth.nu = s.cloth.nv = n;
-  s.cloth.particle_mass = 625.0 / (n * n);
-  s.held.assign(static_cast<size_t>(n * n), 0);
-  for (int j : {0, n - 1})
-    for (int i : {0, n - 1}) s.held[static_cast<size_t>(particle_index(s.cloth, i, j))] = kHoldAll;
-  return s;
-}
-
-SolverOptions line_search(LinearSolver solver) {
-  SolverOptions o;
-  o.integrator = Integrator::implicit_euler;
-  o.newton = NewtonMethod::line_search;
-  o.newton_iterations = kLineSearchNewtonIterations;
-  o.cg_tolerance = kLineSearchCgTolerance;
-  o.linear_solver = solver;
-  return o;
-}
-
 constexpr double kFrame = 1.0 / 30.0;  // s, the issue's large step
 
 }  // namespace
@@ -42,7 +21,7 @@ TEST_CASE("Newton with line search lowers the incremental potential every iterat
       GENERATE(LinearSolver::cg, LinearSolver::block_jacobi_cg, LinearSolver::ldlt);
   CAPTURE(linear_solver_name(solver));
   // the seed scene at 16 x 16 falls onto the sphere and folds over it within 20 frames
-  MassSpringCloth c(seed_at(16), line_search(solver));
+  MassSpringCloth c(seed_scene(16), line_search_options(solver));
   int iterations = 0;
   for (int step = 0; step < 20; ++step) {
     c.step(kFrame);
@@ -55,7 +34,7 @@ TEST_CASE("Newton with line search lowers the incremental potential every iterat
 }
 
 TEST_CASE("the 64 x 64 seed scene stays within the blow-up strain at 1/30 s", "[integrator]") {
-  MassSpringCloth c(seed_at(64), line_search(LinearSolver::automatic));
+  MassSpringCloth c(seed_scene(64), line_search_options(LinearSolver::automatic));
   // 0.5 s: the cloth reaches the sphere at about 0.35 s, where the linearised step failed
   for (int step = 0; step < 15; ++step) {
     c.step(kFrame);
@@ -67,9 +46,9 @@ TEST_CASE("the direct and CG solvers give the same Newton step", "[integrator]")
   const LinearSolver cg = GENERATE(LinearSolver::cg, LinearSolver::block_jacobi_cg);
   CAPTURE(linear_solver_name(cg));
   // one Newton iteration from a shaken state: the step is the linear solve itself
-  const Scene s = seed_at(12);
+  const Scene s = seed_scene(12);
   auto one_step = [&](LinearSolver solver) {
-    SolverOptions o = line_search(solver);
+    SolverOptions o = line_search_options(solver);
     o.newton_iterations = 1;
     o.cg_tolerance = 1e-12;
     MassSpringCloth c(s, o);
@@ -89,9 +68,9 @@ TEST_CASE("held axes stay exact under Newton with line search", "[integrator]") 
       GENERATE(LinearSolver::cg, LinearSolver::block_jacobi_cg, LinearSolver::ldlt);
   CAPTURE(linear_solver_name(solver));
   // corners held in every axis, one edge's middle particle only in y
-  Scene s = seed_at(10);
+  Scene s = seed_scene(10);
   s.held[5] = kHoldY;
-  MassSpringCloth c(s, line_search(solver));
+  MassSpringCloth c(s, line_search_options(solver));
   const Matrix3X x0 = c.positions();
   for (int step = 0; step < 30; ++step) c.step(kFrame);
   const Matrix3X& free = c.model().free;
