@@ -15,7 +15,7 @@ constexpr int kMaxHalvings = 30;
 }  // namespace
 
 LinearSolver resolved_linear_solver(LinearSolver s) {
-  // block-jacobi-cg was the fastest at every grid measured, 8 to 128 per edge (README)
+  // block-jacobi-cg was the fastest at every grid measured, 8 to 64 per edge (README)
   return s == LinearSolver::automatic ? LinearSolver::block_jacobi_cg : s;
 }
 

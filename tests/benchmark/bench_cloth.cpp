@@ -9,7 +9,7 @@
 ///     Newton iterations per step, CG iterations per Newton iteration and sim_s_per_s (simulated
 ///     seconds per wall second).
 ///   BM_symplectic/<particles per edge>: one symplectic-euler step of the same scene at
-///     h = 1e-5 s (its largest stable step at 128), with sim_s_per_s for the cost ratio.
+///     h = 1e-5 s (the estimate of its largest stable step at 128), with sim_s_per_s.
 
 #include <benchmark/benchmark.h>
 
