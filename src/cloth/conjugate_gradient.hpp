@@ -27,13 +27,14 @@ struct CgWorkspace {
 };
 
 /// Solves S A S x = S b for symmetric positive definite A given as a product.
-/// @param apply     apply(u, out): out = A u, both 3 by #P
-/// @param b         3 by #P right-hand side
-/// @param inv_diag  3 by #P inverse of A's diagonal (Jacobi preconditioner)
-/// @param filter    3 by #P, 1 for free axes, 0 for held ones
-/// @param x         3 by #P solution, starts at zero
-template <class Apply>
-CgResult filtered_pcg(Apply&& apply, const Matrix3X& b, const Matrix3X& inv_diag,
+/// @param apply         apply(u, out): out = A u, both 3 by #P
+/// @param precondition  precondition(r, z): z = P^-1 r, both 3 by #P, P symmetric positive
+///                      definite and keeping held axes zero
+/// @param b             3 by #P right-hand side
+/// @param filter        3 by #P, 1 for free axes, 0 for held ones
+/// @param x             3 by #P solution, starts at zero
+template <class Apply, class Precondition>
+CgResult filtered_pcg_with(Apply&& apply, Precondition&& precondition, const Matrix3X& b,
                       const Matrix3X& filter, Matrix3X& x, CgWorkspace& ws, double tolerance,
                       int max_iterations) {
   auto dot = [](const Matrix3X& a, const Matrix3X& c) { return (a.array() * c.array()).sum(); };
@@ -42,7 +43,7 @@ CgResult filtered_pcg(Apply&& apply, const Matrix3X& b, const Matrix3X& inv_diag
   const double b_norm = std::sqrt(dot(ws.r, ws.r));
   CgResult res;
   if (b_norm == 0.0) return res;
-  ws.z = ws.r.cwiseProduct(inv_diag);
+  precondition(ws.r, ws.z);
   ws.p = ws.z;
   double rz = dot(ws.r, ws.z);
   for (int it = 0; it < max_iterations; ++it) {
@@ -54,12 +55,22 @@ CgResult filtered_pcg(Apply&& apply, const Matrix3X& b, const Matrix3X& inv_diag
     res.iterations = it + 1;
     res.relative_residual = std::sqrt(dot(ws.r, ws.r)) / b_norm;
     if (res.relative_residual <= tolerance) break;
-    ws.z = ws.r.cwiseProduct(inv_diag);
+    precondition(ws.r, ws.z);
     const double rz_new = dot(ws.r, ws.z);
     ws.p = ws.z + (rz_new / rz) * ws.p;
     rz = rz_new;
   }
   return res;
+}
+
+/// The same with the Jacobi preconditioner.
+/// @param inv_diag  3 by #P inverse of A's diagonal
+template <class Apply>
+CgResult filtered_pcg(Apply&& apply, const Matrix3X& b, const Matrix3X& inv_diag,
+                      const Matrix3X& filter, Matrix3X& x, CgWorkspace& ws, double tolerance,
+                      int max_iterations) {
+  auto jacobi = [&](const Matrix3X& r, Matrix3X& z) { z = r.cwiseProduct(inv_diag); };
+  return filtered_pcg_with(apply, jacobi, b, filter, x, ws, tolerance, max_iterations);
 }
 
 }  // namespace cloth

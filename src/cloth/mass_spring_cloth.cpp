@@ -14,6 +14,9 @@ MassSpringCloth::MassSpringCloth(const Scene& scene, const SolverOptions& option
        {&m_force, &m_buf, &m_x1, &m_v1, &m_k1, &m_k2, &m_k3, &m_k4, &m_rhs, &m_dv, &m_diag, &m_tmp})
     m->setZero(3, n);
   if (options.integrator == Integrator::implicit_euler) m_cg.resize(n);
+  if (options.integrator == Integrator::implicit_euler &&
+      options.newton == NewtonMethod::line_search)
+    m_newton = std::make_unique<ImplicitEulerNewton>(m_model, options);
 }
 
 void MassSpringCloth::set_state(const Matrix3X& x, const Matrix3X& v) {
@@ -138,6 +141,11 @@ void MassSpringCloth::step_implicit_euler(double h) {
   // Newton on M (v1 - v0) = h f(x0 + h v1, v1), linearised at (xb, vb):
   //   (M - h D - h^2 K) dv = h f(xb, vb) + h K (x0 + h vb - xb) - M (vb - v0).
   // The first iteration linearises at (x0, v0): Baraff and Witkin's single solve.
+  // line-search mode: Newton on the step's incremental potential (implicit_euler.hpp)
+  if (m_newton) {
+    m_newton->step(m_model, m_options, h, m_x, m_v, m_counters);
+    return;
+  }
   const Model& m = m_model;
   const double drag = m.air_drag;
   m_x1 = m_x;  // xb

@@ -3,6 +3,9 @@
 /// The custom mass-spring cloth engine: the report's model with six integrators.
 
 #include "cloth/conjugate_gradient.hpp"
+#include <memory>
+
+#include "cloth/implicit_euler.hpp"
 #include "cloth/integrator.hpp"
 #include "cloth/model.hpp"
 #include "cloth/scene.hpp"
@@ -33,6 +36,8 @@ class MassSpringCloth final : public Simulator {
   void set_state(const Matrix3X& x, const Matrix3X& v);
   const Model& model() const { return m_model; }
   const SolverOptions& options() const { return m_options; }
+  /// The line-search Newton solver of implicit Euler; null in the other modes.
+  const ImplicitEulerNewton* newton() const { return m_newton.get(); }
 
   /// Accelerations at state (x, v), held axes zeroed; counts one force evaluation.
   /// @param a  3 by #P accelerations (m/s^2), written
@@ -59,6 +64,7 @@ class MassSpringCloth final : public Simulator {
   Matrix3X m_rhs, m_dv, m_diag, m_tmp;  // implicit solve
   SpringLinearization m_lin;
   CgWorkspace m_cg;
+  std::unique_ptr<ImplicitEulerNewton> m_newton;  // implicit-euler with newton = line-search
 };
 
 }  // namespace cloth

@@ -5,8 +5,11 @@
 
 namespace cloth {
 
-Scene seed_scene() {
+Scene seed_scene(int per_edge) {
   Scene s;
+  // the seed's total mass (625 kg) spread evenly: 1 kg a particle at 25 x 25
+  s.cloth.nu = s.cloth.nv = per_edge;
+  s.cloth.particle_mass = 625.0 / (double(per_edge) * per_edge);
   s.spheres.push_back(Sphere{});
   s.held.assign(static_cast<size_t>(s.particle_count()), 0);
   const ClothParams& c = s.cloth;

@@ -62,7 +62,8 @@ inline int particle_index(const ClothParams& c, int i, int j) {
   return j * c.nu + i;
 }
 
-/// The report's default scene: 25 x 25, 4 m x 4 m at y = 1 over a unit sphere, corners pinned.
-Scene seed_scene();
+/// The report's default scene: 25 x 25, 4 m x 4 m at y = 1 over a unit sphere, corners pinned;
+/// per_edge other than 25 keeps the size and the total mass (625 kg).
+Scene seed_scene(int per_edge = 25);
 
 }  // namespace cloth

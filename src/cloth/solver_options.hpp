@@ -2,17 +2,55 @@
 /// @file solver_options.hpp
 /// Options of the custom engine: which integrator and how implicit Euler solves.
 
+#include <optional>
+#include <string_view>
+
 #include "cloth/integrator.hpp"
 
 namespace cloth {
 
+/// How implicit Euler treats the nonlinear system of a step.
+enum class NewtonMethod {
+  linearized,  ///< Baraff and Witkin: Newton steps without a line search, from (x0, v0)
+  line_search  ///< Newton on the incremental potential, backtracking line search, residual test
+};
+
+/// Which linear solver implicit Euler uses for each Newton system.
+enum class LinearSolver {
+  automatic,        ///< linearized: cg; line-search: block-jacobi-cg (fastest measured, README)
+  cg,               ///< conjugate gradient, Jacobi (diagonal) preconditioner
+  block_jacobi_cg,  ///< conjugate gradient, 3 by 3 block-Jacobi preconditioner (assembled matrix)
+  ldlt              ///< sparse direct LDL^T (Eigen SimplicialLDLT), symbolic factorisation reused
+};
+
+/// "linearized", "line-search".
+const char* newton_method_name(NewtonMethod m);
+/// The method with that name, if any.
+std::optional<NewtonMethod> parse_newton_method(std::string_view name);
+/// "auto", "cg", "block-jacobi-cg", "ldlt".
+const char* linear_solver_name(LinearSolver s);
+/// The solver with that name, if any.
+std::optional<LinearSolver> parse_linear_solver(std::string_view name);
+
 /// Options of the custom engine.
 struct SolverOptions {
   Integrator integrator = Integrator::rk4;
-  int newton_iterations = 1;     // implicit-euler: 1 is Baraff and Witkin's single linear solve
+  NewtonMethod newton = NewtonMethod::linearized;  // implicit-euler
+  int newton_iterations = 1;     // implicit-euler: limit; linearized with 1 is Baraff and Witkin
+  double newton_tolerance = 1e-2;  // implicit-euler, line-search: max |M^-1 residual| (m/s)
+  LinearSolver linear_solver = LinearSolver::automatic;  // implicit-euler
   double cg_tolerance = 1e-8;    // implicit-euler: relative residual |S r| / |S b|
   int cg_max_iterations = 2000;  // implicit-euler
   bool clamp_compressed = true;  // implicit-euler: drop negative transverse stiffness
 };
+
+/// Newton iteration limit of line-search mode when the scenario does not give one.
+constexpr int kLineSearchNewtonIterations = 20;
+/// CG tolerance of line-search mode when the scenario does not give one: an inexact Newton
+/// step suffices, since the line search and the residual test decide the accuracy.
+constexpr double kLineSearchCgTolerance = 1e-3;
+
+/// Implicit Euler with newton = line-search and that mode's defaults.
+SolverOptions line_search_options(LinearSolver solver = LinearSolver::automatic);
 
 }  // namespace cloth

@@ -7,8 +7,8 @@ namespace clothbench {
 const std::vector<EngineKindInfo>& engine_kind_table() {
   static const std::vector<EngineKindInfo> table = {
       {EngineKind::custom, "custom", true, false, true, "",
-       {"integrator", "newton_iterations", "cg_tolerance", "cg_max_iterations",
-        "clamp_compressed"}},
+       {"integrator", "newton", "newton_iterations", "newton_tolerance", "linear_solver",
+        "cg_tolerance", "cg_max_iterations", "clamp_compressed"}},
       {EngineKind::bullet_deformable, "bullet-deformable", false, true, true, "",
        {"implicit", "line_search", "projection"}},
       // no spring damper: the projection dissipates, and the adapter books each step's energy

@@ -22,6 +22,8 @@ const Keys kEngineCommonKeys = {"name", "kind", "dt"};
 const Keys kPlanes = {"xz", "xy"};
 const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1", "disk", "indices"};
 const Keys kSoftbodyStiffness = {"matched", "klst"};
+const Keys kNewtonMethods = {"linearized", "line-search"};
+const Keys kLinearSolvers = {"auto", "cg", "block-jacobi-cg", "ldlt"};
 
 Keys engine_kind_names() {
   Keys k;

@@ -28,6 +28,8 @@ extern const Keys kEngineCommonKeys;  // keys every [[engine]] may have
 extern const Keys kPlanes;
 extern const Keys kSelections;
 extern const Keys kSoftbodyStiffness;
+extern const Keys kNewtonMethods;
+extern const Keys kLinearSolvers;
 
 /// The names of the engine kinds, in engine_kind_table() order.
 Keys engine_kind_names();

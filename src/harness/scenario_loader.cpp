@@ -199,8 +199,19 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
   switch (e.kind) {
     case EngineKind::custom: {
       cloth::SolverOptions& o = e.solver;
-      o.newton_iterations = r.integer(at, "newton_iterations", o.newton_iterations, 1);
-      o.cg_tolerance = r.number(at, "cg_tolerance", o.cg_tolerance, kPositive);
+      o.newton = *cloth::parse_newton_method(
+          r.choice(at, "newton", cloth::newton_method_name(o.newton), kNewtonMethods));
+      // line-search mode's iterations are a limit and its linear solves may be inexact
+      const bool line_search = o.newton == cloth::NewtonMethod::line_search;
+      const int newton_default =
+          line_search ? cloth::kLineSearchNewtonIterations : o.newton_iterations;
+      const double cg_default =
+          line_search ? cloth::kLineSearchCgTolerance : o.cg_tolerance;
+      o.newton_iterations = r.integer(at, "newton_iterations", newton_default, 1);
+      o.newton_tolerance = r.number(at, "newton_tolerance", o.newton_tolerance, kPositive);
+      o.linear_solver = *cloth::parse_linear_solver(r.choice(
+          at, "linear_solver", cloth::linear_solver_name(o.linear_solver), kLinearSolvers));
+      o.cg_tolerance = r.number(at, "cg_tolerance", cg_default, kPositive);
       o.cg_max_iterations = r.integer(at, "cg_max_iterations", o.cg_max_iterations, 1);
       o.clamp_compressed = r.boolean(at, "clamp_compressed", o.clamp_compressed);
       break;

@@ -19,6 +19,18 @@ std::string vec(std::initializer_list<double> xs) {
   return s + "]";
 }
 
+/// The keys of a custom engine.
+void write_custom_options(std::ostream& o, const cloth::SolverOptions& so) {
+  o << "integrator = " << toml_string(cloth::integrator_name(so.integrator)) << "\n"
+    << "newton = " << toml_string(cloth::newton_method_name(so.newton)) << "\n"
+    << "newton_iterations = " << so.newton_iterations << "\n"
+    << "newton_tolerance = " << toml_double(so.newton_tolerance) << "  # m/s\n"
+    << "linear_solver = " << toml_string(cloth::linear_solver_name(so.linear_solver)) << "\n"
+    << "cg_tolerance = " << toml_double(so.cg_tolerance) << "\n"
+    << "cg_max_iterations = " << so.cg_max_iterations << "\n"
+    << "clamp_compressed = " << (so.clamp_compressed ? "true" : "false") << "\n";
+}
+
 }  // namespace
 
 std::string scenario_to_toml(const Scenario& s) {
@@ -84,11 +96,7 @@ std::string scenario_to_toml(const Scenario& s) {
       << "kind = " << toml_string(engine_kind_name(e.kind)) << "\n"
       << "dt = " << d(e.dt) << "  # s\n";
     if (e.kind == EngineKind::custom) {
-      o << "integrator = " << toml_string(cloth::integrator_name(e.solver.integrator)) << "\n"
-        << "newton_iterations = " << e.solver.newton_iterations << "\n"
-        << "cg_tolerance = " << d(e.solver.cg_tolerance) << "\n"
-        << "cg_max_iterations = " << e.solver.cg_max_iterations << "\n"
-        << "clamp_compressed = " << (e.solver.clamp_compressed ? "true" : "false") << "\n";
+      write_custom_options(o, e.solver);
     } else if (e.kind == EngineKind::bullet_deformable) {
       o << "implicit = " << (e.bullet.implicit ? "true" : "false") << "\n"
         << "line_search = " << (e.bullet.line_search ? "true" : "false") << "\n"

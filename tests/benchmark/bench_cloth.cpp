@@ -4,6 +4,12 @@
 ///     seed cloth at that resolution, with springs_per_second.
 ///   BM_step/<integrator>: one step of the seed scene at the report's h = 1e-4 s
 ///     (implicit-euler at h = 1/60 s, with its CG iterations per step).
+///   BM_newton/<solver>/<particles per edge>: one implicit-euler step, newton = "line-search",
+///     of the seed scene at that resolution and the seed's total mass (625 kg), h = 1/30 s, with
+///     Newton iterations per step, CG iterations per Newton iteration and sim_s_per_s (simulated
+///     seconds per wall second).
+///   BM_symplectic/<particles per edge>: one symplectic-euler step of the same scene at
+///     h = 1e-5 s (the estimate of its largest stable step at 128), with sim_s_per_s.
 
 #include <benchmark/benchmark.h>
 
@@ -56,6 +62,28 @@ void BM_step(benchmark::State& state, Integrator integrator) {
     state.counters["cg_iterations_per_step"] = double(c.cg_iterations) / double(c.steps);
 }
 
+void BM_newton(benchmark::State& state, LinearSolver solver) {
+  const SolverOptions o = line_search_options(solver);
+  MassSpringCloth cloth(seed_scene(static_cast<int>(state.range(0))), o);
+  const double h = 1.0 / 30.0;
+  for (auto _ : state) cloth.step(h);
+  const Counters c = cloth.counters();
+  state.counters["newton_per_step"] = double(c.newton_iterations) / double(c.steps);
+  state.counters["cg_per_newton"] =
+      double(c.cg_iterations) / double(std::max<std::int64_t>(1, c.newton_iterations));
+  state.counters["sim_s_per_s"] = benchmark::Counter(h, benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void BM_symplectic(benchmark::State& state) {
+  SolverOptions o;
+  o.integrator = Integrator::symplectic_euler;
+  MassSpringCloth cloth(seed_scene(static_cast<int>(state.range(0))), o);
+  const double h = 1e-5;
+  for (auto _ : state) cloth.step(h);
+  state.counters["sim_s_per_s"] = benchmark::Counter(h, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK(BM_symplectic)->Arg(25)->Arg(64)->Arg(128)->Unit(benchmark::kMicrosecond);
+
 }  // namespace
 
 // BM_step/<integrator>: one step of the seed scene (implicit-euler at h = 1/60 s, the others
@@ -65,6 +93,14 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(("BM_step/" + std::string(integrator_name(integrator))).c_str(),
                                  BM_step, integrator)
         ->Unit(benchmark::kMicrosecond);
+  for (const LinearSolver solver :
+       {LinearSolver::cg, LinearSolver::block_jacobi_cg, LinearSolver::ldlt})
+    benchmark::RegisterBenchmark(("BM_newton/" + std::string(linear_solver_name(solver))).c_str(),
+                                 BM_newton, solver)
+        ->Arg(25)
+        ->Arg(64)
+        ->Arg(128)
+        ->Unit(benchmark::kMillisecond);
   benchmark::Initialize(&argc, argv);
   if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
   benchmark::RunSpecifiedBenchmarks();

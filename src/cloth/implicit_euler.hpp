@@ -1,0 +1,56 @@
+#pragma once
+/// @file implicit_euler.hpp
+/// Backward Euler by Newton's method on the step's incremental potential, with a backtracking
+/// line search (the "optimisation integrator" view). In velocities v (x = x0 + h v):
+///
+///   Phi(v) = 1/2 |v - v0 - h g|_M^2 + E(x0 + h v) + h/2 (c sum_s (d0_s . (v_q - v_p))^2 + drag |v|^2)
+///
+/// E is the elastic energy, d0_s spring s's direction at the step's start. The last term is the
+/// Rayleigh potential of the spring dampers with their directions frozen at x0, the directions
+/// Baraff and Witkin's linearised step uses for D, so -grad Phi = h f(x, v) - M (v - v0) is the
+/// backward-Euler residual with that damper, and the Hessian is A = M + h drag - h D0 - h^2 K.
+/// The definiteness fix (clamp_compressed) changes only the matrix's K; Phi and its gradient are
+/// the true ones, so the equilibrium does not move.
+
+#include <memory>
+#include <vector>
+
+#include "cloth/implicit_matrix.hpp"
+#include "cloth/model.hpp"
+#include "cloth/newton_linear_solver.hpp"
+#include "cloth/simulator.hpp"
+#include "cloth/solver_options.hpp"
+
+namespace cloth {
+
+/// The linear solver that `automatic` means for a line-search step.
+LinearSolver resolved_linear_solver(LinearSolver s);
+
+/// Newton with line search for one scene; scratch sized once.
+class ImplicitEulerNewton {
+ public:
+  ImplicitEulerNewton(const Model& m, const SolverOptions& o);
+
+  /// Advances x and v (each 3 by #P) by one backward-Euler step of h seconds.
+  void step(const Model& m, const SolverOptions& o, double h, Matrix3X& x, Matrix3X& v,
+            Counters& counters);
+
+  /// Phi at the start and after each Newton iteration of the last step (J).
+  const std::vector<double>& objective_history() const { return m_history; }
+  /// Largest |M^-1 residual| after the last step (m/s).
+  double last_residual() const { return m_residual; }
+
+ private:
+  double objective(const Model& m, double h, const Matrix3X& v);
+  double residual(const Model& m, double h, const Matrix3X& v);
+  bool line_search(const Model& m, double h, double slope, Counters& counters);
+
+  ImplicitMatrix m_matrix;
+  NewtonLinearSolver m_solver;
+  SpringLinearization m_lin0, m_lin;
+  Matrix3X m_x0, m_v0, m_v, m_x, m_trial, m_dv, m_force, m_damp, m_zero, m_buf, m_rhs;
+  std::vector<double> m_history;
+  double m_phi = 0, m_residual = 0;
+};
+
+}  // namespace cloth

@@ -1,0 +1,105 @@
+#include "cloth/implicit_matrix.hpp"
+
+#include <Eigen/LU>
+#include <algorithm>
+
+namespace cloth {
+
+namespace {
+
+/// Calls visit(p, q, fi, slot) for every spring, family by family, anchors in order.
+template <class Visit>
+void for_each_spring(const SpringSet& springs, Visit&& visit) {
+  for (size_t fi = 0; fi < springs.families.size(); ++fi) {
+    const SpringFamily& fam = springs.families[fi];
+    for (int p = 0; p < fam.slots(); ++p)
+      if (fam.mask[p] != 0.0) visit(p, p + fam.offset, fi, p);
+  }
+}
+
+/// Offset in the value array of entry (row, col); the entry must be in the pattern.
+int entry_offset(const Eigen::SparseMatrix<double>& a, int row, int col) {
+  const int* begin = a.innerIndexPtr() + a.outerIndexPtr()[col];
+  const int* end = a.innerIndexPtr() + a.outerIndexPtr()[col + 1];
+  return static_cast<int>(std::lower_bound(begin, end, row) - a.innerIndexPtr());
+}
+
+}  // namespace
+
+ImplicitMatrix::ImplicitMatrix(const Model& m) {
+  const int n = m.particle_count();
+  // the pattern: every particle's diagonal block and both off-diagonal blocks of each spring
+  std::vector<Eigen::Triplet<double>> t;
+  auto add_block = [&](int p, int q) {
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) t.emplace_back(3 * p + r, 3 * q + c, 0.0);
+  };
+  for (int p = 0; p < n; ++p) add_block(p, p);
+  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
+    add_block(p, q);
+    add_block(q, p);
+  });
+  m_a.resize(3 * n, 3 * n);
+  m_a.setFromTriplets(t.begin(), t.end());
+  m_a.makeCompressed();
+  // the value offsets of each block's three columns, at its first row
+  auto block_slots = [&](int p, int q, std::vector<int>& out) {
+    for (int c = 0; c < 3; ++c) out.push_back(entry_offset(m_a, 3 * p, 3 * q + c));
+  };
+  for (int p = 0; p < n; ++p) block_slots(p, p, m_diag_slots);
+  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
+    for (auto [r, c] : {std::pair{p, p}, {q, q}, {p, q}, {q, p}}) block_slots(r, c, m_spring_slots);
+  });
+  // held axes: identity row and column
+  for (int col = 0; col < 3 * n; ++col) {
+    for (int k = m_a.outerIndexPtr()[col]; k < m_a.outerIndexPtr()[col + 1]; ++k) {
+      const int row = m_a.innerIndexPtr()[k];
+      const bool held_row = m.free(row % 3, row / 3) == 0.0;
+      const bool held_col = m.free(col % 3, col / 3) == 0.0;
+      if (row == col && held_col) m_held_one.push_back(k);
+      if (row != col && (held_row || held_col)) m_held_zero.push_back(k);
+    }
+  }
+}
+
+void ImplicitMatrix::assemble(const Model& m, const SpringLinearization& lin_k,
+                              const SpringLinearization& lin_d, double h) {
+  double* val = m_a.valuePtr();
+  std::fill(val, val + m_a.nonZeros(), 0.0);
+  // the mass and drag on the diagonal
+  for (int p = 0; p < m.particle_count(); ++p)
+    for (int c = 0; c < 3; ++c) val[m_diag_slots[3 * p + c] + c] = m.mass[p] + h * m.air_drag;
+  // each spring's block B = h^2 J + h c d0 d0^T: +B on both diagonal blocks, -B off them
+  const double c_damp = m.springs.damping;
+  int s = 0;
+  for_each_spring(m.springs, [&](int, int, size_t fi, int slot) {
+    const auto& L = lin_k.dirs[fi];
+    const auto& L0 = lin_d.dirs[fi];
+    const double k = m.springs.families[fi].stiffness, b = L(3, slot);
+    const Vector3 d = L.col(slot).head<3>(), d0 = L0.col(slot).head<3>();
+    const Matrix3 block = h * h * k * ((1.0 - b) * d * d.transpose() + b * Matrix3::Identity()) +
+                          h * c_damp * d0 * d0.transpose();
+    const int* slots = &m_spring_slots[12 * s++];
+    for (int blk = 0; blk < 4; ++blk) {
+      const double sign = blk < 2 ? 1.0 : -1.0;
+      for (int c = 0; c < 3; ++c)
+        for (int r = 0; r < 3; ++r) val[slots[3 * blk + c] + r] += sign * block(r, c);
+    }
+  });
+  for (int k : m_held_zero) val[k] = 0.0;
+  for (int k : m_held_one) val[k] = 1.0;
+}
+
+void ImplicitMatrix::diagonal_block_inverses(Eigen::Matrix<double, 3, Eigen::Dynamic>& inv) const {
+  const Eigen::Index n = m_a.cols() / 3;
+  inv.resize(3, 3 * n);
+  const double* val = m_a.valuePtr();
+  for (Eigen::Index p = 0; p < n; ++p) {
+    Matrix3 block;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) block(r, c) = val[m_diag_slots[3 * p + c] + r];
+    inv.middleCols<3>(3 * p) = block.inverse();
+  }
+}
+
+}  // namespace cloth

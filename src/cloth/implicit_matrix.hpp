@@ -1,0 +1,46 @@
+#pragma once
+/// @file implicit_matrix.hpp
+/// The Newton matrix of implicit Euler, A = M + h drag I - h D - h^2 K, assembled into a
+/// sparsity pattern fixed per scene so that a direct solver reuses its symbolic factorisation.
+///
+/// Unknowns are interleaved, 3 p + r for axis r of particle p. K = df/dx comes from the
+/// linearisation at the Newton iterate, D = df/dv from the one at the step's start. A held axis
+/// has its row and column replaced by the identity, so its increment is exactly zero.
+
+#include <Eigen/SparseCore>
+#include <vector>
+
+#include "cloth/model.hpp"
+#include "cloth/spring_jacobians.hpp"
+#include "cloth/types.hpp"
+
+namespace cloth {
+
+/// A in compressed column storage, with the value offsets of every spring's blocks.
+class ImplicitMatrix {
+ public:
+  /// Builds the pattern of m's springs (3 #P by 3 #P).
+  explicit ImplicitMatrix(const Model& m);
+
+  /// Fills A's values for step h.
+  /// @param lin_k  linearisation giving K (the Newton iterate)
+  /// @param lin_d  linearisation giving D's directions (the step's start)
+  void assemble(const Model& m, const SpringLinearization& lin_k, const SpringLinearization& lin_d,
+                double h);
+
+  /// 3 #P by 3 #P, symmetric, both triangles stored.
+  const Eigen::SparseMatrix<double>& matrix() const { return m_a; }
+
+  /// Inverses of the 3 by 3 diagonal blocks.
+  /// @param inv  3 by 3 #P, block p in columns 3 p .. 3 p + 2, written
+  void diagonal_block_inverses(Eigen::Matrix<double, 3, Eigen::Dynamic>& inv) const;
+
+ private:
+  Eigen::SparseMatrix<double> m_a;
+  std::vector<int> m_spring_slots;  // per spring 4 blocks (pp, qq, pq, qp) by 3 columns
+  std::vector<int> m_diag_slots;    // per particle and column, the offset of row 3 p
+  std::vector<int> m_held_zero;     // off-diagonal entries in a held row or column
+  std::vector<int> m_held_one;      // diagonal entries of held axes
+};
+
+}  // namespace cloth

@@ -1,0 +1,49 @@
+#pragma once
+/// @file newton_linear_solver.hpp
+/// Solves implicit Euler's assembled Newton system A dv = b with preconditioned conjugate
+/// gradients (Jacobi or 3 by 3 block-Jacobi) or a sparse LDL^T whose symbolic factorisation
+/// (ordering and elimination tree) is computed once, since A's pattern never changes.
+
+#include <Eigen/SparseCholesky>
+
+#include "cloth/conjugate_gradient.hpp"
+#include "cloth/implicit_matrix.hpp"
+#include "cloth/solver_options.hpp"
+
+namespace cloth {
+
+/// One linear solver with its workspace, for one scene.
+class NewtonLinearSolver {
+ public:
+  /// @param solver  cg, block_jacobi_cg or ldlt (not automatic)
+  NewtonLinearSolver(LinearSolver solver, Eigen::Index dofs);
+
+  /// Solves A x = b for A assembled from lin_k and lin_d at step h. CG applies A matrix-free
+  /// (the spring kernels are several times cheaper than a sparse product); a, assembled, gives
+  /// the preconditioner or the factorisation.
+  /// @param b  3 by #P right-hand side, zero on held axes
+  /// @param x  3 by #P solution, zero on held axes, written
+  /// @return CG iterations and relative residual (0 and 0 for ldlt)
+  CgResult solve(const Model& m, const ImplicitMatrix& a, const SpringLinearization& lin_k,
+                 const SpringLinearization& lin_d, double h, const Matrix3X& b, Matrix3X& x,
+                 double tolerance, int max_iterations);
+
+  /// False when the last ldlt factorisation failed (A not positive definite numerically).
+  bool ok() const { return m_ok; }
+
+ private:
+  CgResult solve_cg(const Model& m, const ImplicitMatrix& a, const SpringLinearization& lin_k,
+                    const SpringLinearization& lin_d, double h, const Matrix3X& b, Matrix3X& x,
+                    double tolerance, int max_iterations);
+
+  LinearSolver m_solver;
+  bool m_analyzed = false;
+  bool m_ok = true;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_ldlt;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> m_block_inv;  // 3 by 3 #P
+  Matrix3X m_inv_diag, m_buf;
+  CgWorkspace m_cg;
+  Eigen::VectorXd m_b, m_x;  // interleaved 3 #P, for ldlt
+};
+
+}  // namespace cloth
