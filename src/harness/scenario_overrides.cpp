@@ -50,7 +50,13 @@ toml::table parse_value(const std::string& text, const std::string& where) {
       throw ScenarioError(
           where, "", "cannot read the value " + text + " as TOML: " + std::string(e.description()));
   }
-  return one_value(toml_string(text));
+  // a bare word: quoted, it can still fail (invalid UTF-8, found by scripts/fuzz)
+  try {
+    return one_value(toml_string(text));
+  } catch (const toml::parse_error& e) {
+    throw ScenarioError(where, "", "cannot read the value as a string: " +
+                                       std::string(e.description()));
+  }
 }
 
 /// The table at parent[key], created from init (TOML) when absent.

@@ -199,6 +199,14 @@ TEST_CASE("structurally extreme TOML is refused before the parser sees it", "[sc
                                "nested more than 64 deep"));
 }
 
+TEST_CASE("a --set value that is not valid UTF-8 is refused, not an internal error",
+          "[scenario]") {
+  // found by scripts/fuzz (tests/data/fuzz/overrides/): the bare-word fallback's parse threw
+  const std::string bad = std::string("name=frampectkiur= ") + char(0x97) + "(";
+  CHECK_THAT(error_of([&] { load_scenario(seed_path(), {bad}); }),
+             Catch::StartsWith("--set name: cannot read the value as a string: "));
+}
+
 TEST_CASE("an unreadable scenario file is an error naming it", "[scenario]") {
   const std::string missing = (kSource / "tests" / "data" / "no_such_file.toml").string();
   CHECK(error_of([&] { load_scenario(missing); }) ==
