@@ -13,8 +13,8 @@ namespace clothbench::reference {
 std::optional<Refusal> bullet_scene_refusal(const cloth::Scene& scene, const std::string& kind) {
   const std::string who = kind + ": ";
   if (scene.cloth.air_drag < 0.0)
-    return Refusal{who + "air drag must not be negative, got " + cloth::toml_double(scene.cloth.air_drag) +
-                       " N s/m",
+    return Refusal{who + "air drag must not be negative, got " +
+                       cloth::toml_double(scene.cloth.air_drag) + " N s/m",
                    {"cloth.air_drag"},
                    {}};
   for (size_t i = 0; i < scene.spheres.size(); ++i) {
@@ -28,13 +28,15 @@ std::optional<Refusal> bullet_scene_refusal(const cloth::Scene& scene, const std
                      {}};
     if (s.margin != scene.spheres.front().margin)
       return Refusal{who + "spheres with different margins (" +
-                         cloth::toml_double(scene.spheres.front().margin) + " and " + cloth::toml_double(s.margin) +
+                         cloth::toml_double(scene.spheres.front().margin) + " and " +
+                         cloth::toml_double(s.margin) +
                          " m): a Bullet soft body has one contact margin",
                      {sphere + ".margin", "sphere.0.margin"},
                      {}};
     if (!(s.margin > 0.0))
-      return Refusal{who + "sphere " + std::to_string(i) + " needs a positive contact margin, got " +
-                         cloth::toml_double(s.margin) + " m",
+      return Refusal{who + "sphere " + std::to_string(i) +
+                         " needs a positive contact margin, got " + cloth::toml_double(s.margin) +
+                         " m",
                      {sphere + ".margin"},
                      {}};
   }
@@ -47,7 +49,6 @@ std::optional<Refusal> bullet_scene_refusal(const cloth::Scene& scene, const std
                      {}};
   return std::nullopt;
 }
-
 
 btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model,
                             const cloth::Matrix3X& start, const LinkMaterial& material) {

@@ -109,7 +109,8 @@ std::optional<Refusal> softbody_refusal(const BulletOptions& o, double dt,
     return Refusal{who + "iterations must be at least 1, got " + std::to_string(o.iterations),
                    {},
                    {"iterations"}};
-  if (!(dt > 0.0)) return Refusal{who + "dt must be positive, got " + cloth::toml_double(dt), {}, {"dt"}};
+  if (!(dt > 0.0))
+    return Refusal{who + "dt must be positive, got " + cloth::toml_double(dt), {}, {"dt"}};
   if (o.implicit || o.line_search)
     return Refusal{who + "implicit and line_search are bullet-deformable options",
                    {},

@@ -9,10 +9,10 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/output_lock.hpp"
-#include "option_checks.hpp"
 #include "harness/accuracy_sweep.hpp"
+#include "harness/output_lock.hpp"
 #include "harness/user_error.hpp"
+#include "option_checks.hpp"
 #include "scenario_input.hpp"
 
 namespace clothbench::cli {
@@ -22,7 +22,7 @@ struct AccuracyArgs {
   std::string scenario_path;           // empty: the embedded seed scene
   std::vector<std::string> overrides;  // --set KEY=VALUE
   bool quiet = false;
-  double max_run_seconds = 0;  // s, 0: no limit
+  double max_run_seconds = 0;              // s, 0: no limit
   std::string dts_text, resolutions_text;  // comma-separated lists, parsed into options
   AccuracyOptions options;                 // out_dir empty: out/<scenario name>-accuracy
 };
@@ -87,15 +87,17 @@ Command add_accuracy_command(CLI::App& app) {
       ->capture_default_str()
       ->check(positive_integer())
       ->excludes(dts_opt);
-  accuracy->add_option(
-      "--tolerance", o.tolerance,
-      "error tolerance (m, RMS distance): recommend the cheapest configuration within it.\n"
-      "Cheapest is counted, not timed, so it does not change with the machine or --jobs: per\n"
-      "engine the fewest force evaluations + 3 x CG iterations (a CG iteration with its share\n"
-      "of the Newton linearisation costs about 3 force evaluations), times particles; Bullet\n"
-      "engines, whose work is not counted, the fewest steps x particles; ties go to the smaller\n"
-      "error. Overall compares the engines' choices by that count when all are custom, and by\n"
-      "wall time per simulated second when Bullet is among them (wall time stays in the CSV)")
+  accuracy
+      ->add_option(
+          "--tolerance", o.tolerance,
+          "error tolerance (m, RMS distance): recommend the cheapest configuration within it.\n"
+          "Cheapest is counted, not timed, so it does not change with the machine or --jobs: per\n"
+          "engine the fewest force evaluations + 3 x CG iterations (a CG iteration with its share\n"
+          "of the Newton linearisation costs about 3 force evaluations), times particles; Bullet\n"
+          "engines, whose work is not counted, the fewest steps x particles; ties go to the "
+          "smaller\n"
+          "error. Overall compares the engines' choices by that count when all are custom, and by\n"
+          "wall time per simulated second when Bullet is among them (wall time stays in the CSV)")
       ->check(positive_number());
   accuracy->add_option("--resolutions", a->resolutions_text,
                        "square grid sizes to compare at each engine's dt, e.g. 9,13,17,25,33");

@@ -10,8 +10,8 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "harness/output_lock.hpp"
-#include "option_checks.hpp"
 #include "harness/regression_check.hpp"
+#include "option_checks.hpp"
 #include "scenario_input.hpp"
 
 namespace clothbench::cli {

@@ -9,10 +9,10 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "harness/output_lock.hpp"
-#include "option_checks.hpp"
 #include "harness/runner.hpp"
-#include "scenario_input.hpp"
 #include "harness/summaries.hpp"
+#include "option_checks.hpp"
+#include "scenario_input.hpp"
 
 namespace clothbench::cli {
 namespace {
@@ -46,8 +46,7 @@ int execute_run(RunArgs a) {
     std::cerr << "units: dt in s, us_per_step in microseconds of wall time, max_energy_error in "
                  "J, final_rms_vs_reference in m (RMS particle distance from "
               << sc.reference << " at the end)\n"
-              << "next: clothbench report " << a.out
-              << "   (plots and report.html of this run)\n";
+              << "next: clothbench report " << a.out << "   (plots and report.html of this run)\n";
   return kExitOk;
 }
 
