@@ -14,6 +14,7 @@
 #include "harness/csv_writer.hpp"
 #include "harness/engine_factory.hpp"
 #include "harness/scenario_writer.hpp"
+#include "harness/staged_folder.hpp"
 #include "harness/user_error.hpp"
 
 namespace clothbench {
@@ -167,8 +168,8 @@ RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
     if (it == sc.engines.end()) {
       std::string known;
       for (const EngineSpec& e : sc.engines) known += (known.empty() ? "" : ", ") + e.name;
-      throw UserError("--engine " + name + ": no such engine in " + sc.source + " (engines: " +
-                      known + ")");
+      throw UserError("--engine " + name + ": no such engine in " + sc.source +
+                      " (engines: " + known + ")");
     }
   }
   for (int i = 0; i < static_cast<int>(sc.engines.size()); ++i) {
@@ -179,8 +180,7 @@ RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
   }
   // a scene an engine refuses fails before any work (the loader refused it already, unless
   // the caller changed the scene since)
-  for (int i : chosen)
-    require_engine_can_model(sc.engines[static_cast<size_t>(i)], sc.scene, "");
+  for (int i : chosen) require_engine_can_model(sc.engines[static_cast<size_t>(i)], sc.scene, "");
 
   double total_steps = 0;
   for (int i : chosen) total_steps += double(planned_steps(sc, sc.engines[static_cast<size_t>(i)]));
@@ -193,12 +193,11 @@ RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
     msg << spec.name << ": " << run.counters.steps << " steps of " << spec.dt << " s in "
         << format_double(std::round(run.wall_s * 1000) / 1000) << " s ("
         << std::llround(run.counters.steps / std::max(run.wall_s, 1e-9)) << " steps/s), "
-        << (run.stable      ? std::string("stable")
-            : run.timed_out ? "timeout: stopped at t = " + format_double(run.frames.back().t) +
-                                  " s after --max-run-seconds " +
-                                  format_double(sc.max_run_seconds) + " s"
-                            : "unstable (" + run.cause + ") at t = " + format_double(run.blowup_t) +
-                                  " s");
+        << (run.stable ? std::string("stable")
+            : run.timed_out
+                ? "timeout: stopped at t = " + format_double(run.frames.back().t) +
+                      " s after --max-run-seconds " + format_double(sc.max_run_seconds) + " s"
+                : "unstable (" + run.cause + ") at t = " + format_double(run.blowup_t) + " s");
     if (run.counters.cg_unconverged > 0)
       msg << "; " << run.counters.cg_unconverged
           << " linear solves stopped at cg_max_iterations before reaching cg_tolerance";
@@ -243,8 +242,8 @@ std::string facts_json() {
   o << "  \"engine_kinds\": {";
   const auto& kinds = engine_kind_table();
   for (size_t k = 0; k < kinds.size(); ++k)
-    o << (k ? "," : "") << "\n    \"" << kinds[k].name << "\": {\"has_integrators\": "
-      << (kinds[k].has_integrators ? "true" : "false")
+    o << (k ? "," : "") << "\n    \"" << kinds[k].name
+      << "\": {\"has_integrators\": " << (kinds[k].has_integrators ? "true" : "false")
       << ", \"energy_gated\": " << (kinds[k].energy_gated ? "true" : "false")
       << ", \"energy_note\": \"" << kinds[k].energy_note << "\"}";
   o << "\n  },\n  \"integrators\": {";
@@ -350,29 +349,31 @@ void write_run_info(const std::string& dir) {
   info.commit();
 }
 
-void write_run(const RunResult& result, const std::string& dir) {
-  make_directories(dir);
+void write_run(const RunResult& result, const std::string& out) {
+  make_directories(out);
+  StagedFolder staged(out);
+  const std::string dir = staged.path();
   CsvWriter frames(
-      dir + "/frames.csv",
+      dir + "frames.csv",
       {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
        "contact_work", "unbooked", "total_energy", "energy_error", "max_strain", "mean_strain",
        "com_x", "com_y", "com_z", "min_y", "max_penetration", "shadow_area", "stable"});
   write_frames(result, frames);
-  CsvWriter div(dir + "/divergence.csv",
+  CsvWriter div(dir + "divergence.csv",
                 {"engine", "reference", "t", "rms_distance", "max_distance", "com_distance",
                  "energy_difference", "shadow_area_difference"});
   write_divergence(result, div);
-  CsvWriter snaps(dir + "/snapshots.csv", {"engine", "t", "i", "j", "x", "y", "z"});
+  CsvWriter snaps(dir + "snapshots.csv", {"engine", "t", "i", "j", "x", "y", "z"});
   write_snapshots(result, snaps);
-  CsvWriter summary(dir + "/summary.csv",
-                    {"engine", "kind", "integrator", "dt", "steps", "wall_s", "us_per_step",
-                     "force_evals", "stable", "blowup_t", "max_energy_error",
-                     "final_rms_vs_reference", "max_rms_vs_reference", "drape_coefficient",
-                     "final_kinetic", "static_residual"});
+  CsvWriter summary(
+      dir + "summary.csv",
+      {"engine", "kind", "integrator", "dt", "steps", "wall_s", "us_per_step", "force_evals",
+       "stable", "blowup_t", "max_energy_error", "final_rms_vs_reference", "max_rms_vs_reference",
+       "drape_coefficient", "final_kinetic", "static_residual"});
   write_summary(result, summary);
-  AtomicFile toml(dir + "/scenario.toml");
+  AtomicFile toml(dir + "scenario.toml");
   toml.write(scenario_to_toml(result.scenario));
-  AtomicFile info(dir + "/run.json");
+  AtomicFile info(dir + "run.json");
   info.write(run_info_json());
   // every file is complete: make them all appear
   frames.commit();
@@ -381,6 +382,7 @@ void write_run(const RunResult& result, const std::string& dir) {
   summary.commit();
   toml.commit();
   info.commit();
+  staged.commit();
 }
 
 }  // namespace clothbench

@@ -76,7 +76,8 @@ constexpr double kEnergyCheckInterval = 0.01;
 RunResult run_scenario(const Scenario& sc, const RunOptions& options);
 
 /// Writes frames.csv, divergence.csv, snapshots.csv, summary.csv, scenario.toml and run.json
-/// into dir (created if needed), each file atomically.
+/// into dir (created if needed), all at once: they are written into a hidden sibling that
+/// takes the folder's place in one rename (StagedFolder); other files of dir stay.
 void write_run(const RunResult& result, const std::string& dir);
 
 /// Total steps of one engine over the scenario (for progress).

@@ -9,6 +9,7 @@
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
 #include "harness/scenario_writer.hpp"
+#include "harness/staged_folder.hpp"
 #include "temp_dir.hpp"
 #include "test_scenes.hpp"
 
@@ -116,12 +117,11 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
   write_run(run_small(), dir.string());
 
   const Csv frames = read_csv(dir / "frames.csv");
-  CHECK(frames.header == std::vector<std::string>{"engine", "t", "kinetic", "gravity_potential",
-                                                  "elastic_potential", "dissipated", "contact_work",
-                                                  "unbooked", "total_energy", "energy_error",
-                                                  "max_strain", "mean_strain", "com_x", "com_y",
-                                                  "com_z", "min_y", "max_penetration",
-                                                  "shadow_area", "stable"});
+  CHECK(frames.header ==
+        std::vector<std::string>{"engine", "t", "kinetic", "gravity_potential", "elastic_potential",
+                                 "dissipated", "contact_work", "unbooked", "total_energy",
+                                 "energy_error", "max_strain", "mean_strain", "com_x", "com_y",
+                                 "com_z", "min_y", "max_penetration", "shadow_area", "stable"});
   std::map<std::string, int> rows_per_engine;
   double e0 = 0, rk4_worst = 0;
   for (size_t r = 0; r < frames.rows.size(); ++r) {
@@ -178,7 +178,7 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
     CHECK(summary.num(r, "max_energy_error") >= 0.0);
   }
   CHECK(summary.num(0, "dt") == 1e-4);
-  CHECK(summary.num(3, "steps") < 30);                     // stopped at the blow-up
+  CHECK(summary.num(3, "steps") < 30);  // stopped at the blow-up
   // a swinging cloth is far from equilibrium, and it moves
   CHECK(summary.num(0, "static_residual") > 0.1);
   CHECK(summary.num(0, "final_kinetic") > 0.0);
@@ -383,4 +383,39 @@ TEST_CASE("the static residual is 0 at an equilibrium and not away from one", "[
   CHECK(static_residual(dust, 0.0, p, still) == Approx(0.5).epsilon(1e-12));
   dust.spheres[0].friction = 1.0;
   CHECK(static_residual(dust, 0.0, p, still) < 1e-12);
+}
+
+TEST_CASE("a run's files replace an older run's all at once, keeping the folder's other files",
+          "[runner]") {
+  const clothbench::test::TempDir scratch("runner-staged");
+  const fs::path dir = scratch.path / "out";
+  write_run(run_small({"duration=0.02"}), dir.string());
+  const std::string old_scenario = slurp(dir / "scenario.toml");
+  {  // a user's note and a folder of plots beside the run, and a stage a killed run left
+    std::ofstream(dir / "notes.txt") << "mine\n";
+    fs::create_directories(dir / "plots");
+    std::ofstream(dir / "plots" / "a.png") << "png\n";
+    fs::create_directories(scratch.path / ".out.clothbench-new-999999");
+  }
+  {  // an abandoned stage (an error or an interrupt before its commit) changes nothing
+    StagedFolder staged(dir.string());
+    std::ofstream(staged.path() + "summary.csv") << "half\n";
+    CHECK(fs::exists(staged.path()));
+  }
+  CHECK(slurp(dir / "scenario.toml") == old_scenario);
+  write_run(run_small({"duration=0.04"}), dir.string());
+  // every run file is the new run's: the scenario and summary agree on the duration
+  CHECK(slurp(dir / "scenario.toml") != old_scenario);
+  CHECK(slurp(dir / "scenario.toml").find("duration = 0.04") != std::string::npos);
+  const Csv summary = read_csv(dir / "summary.csv");
+  const Csv frames = read_csv(dir / "frames.csv");
+  double last_t = 0;
+  for (size_t r = 0; r < frames.rows.size(); ++r) last_t = std::max(last_t, frames.num(r, "t"));
+  CHECK(last_t == Approx(0.04));
+  CHECK(!summary.rows.empty());
+  // the folder's other files stay, and no stage is left beside it
+  CHECK(slurp(dir / "notes.txt") == "mine\n");
+  CHECK(slurp(dir / "plots" / "a.png") == "png\n");
+  for (const auto& e : fs::directory_iterator(scratch.path))
+    CHECK(e.path().filename().string().find("clothbench-new") == std::string::npos);
 }
