@@ -80,6 +80,9 @@ class EnergyScale {
   void observe(double kinetic, double elastic);
   /// The scale (J).
   double value() const { return m_weight_extent + m_kinetic + m_elastic; }
+  /// Whether an energy error (J) fails the blow-up test at limit times the scale. One-sided
+  /// (a scheme that loses energy is dissipative, not unstable); a NaN error fails.
+  bool exceeded_by(double error, double limit) const { return !(error <= limit * value()); }
 
  private:
   double m_weight_extent = 0;  // J

@@ -56,12 +56,16 @@ class EnergyTest {
   }
   /// Total energy at the start (J).
   double e0() const { return m_e0; }
-  /// Whether the current state fails the test (its energies join the scale first).
-  bool failed() {
+  /// Why the current state fails the test ("energy", or "non-finite" for a NaN or infinite
+  /// energy error: a velocity gone bad while the positions are still finite); nullptr when it
+  /// passes. Its energies join the scale first.
+  const char* failure() {
     const cloth::Energies e =
         cloth::compute_energies(m_model, m_sim.positions(), m_sim.velocities());
     m_scale.observe(e.kinetic, e.elastic_potential);
-    return energy_error(e.total(), books_of(m_sim), m_e0) > m_limit * m_scale.value();
+    const double error = energy_error(e.total(), books_of(m_sim), m_e0);
+    if (!std::isfinite(error)) return "non-finite";
+    return m_scale.exceeded_by(error, m_limit) ? "energy" : nullptr;
   }
 
  private:
@@ -131,8 +135,8 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
         break;
       }
       if ((s + 1) % steps_per_check == 0 || s + 1 == steps_per_frame) {
-        if (energy_test.failed()) {
-          fail("energy");
+        if (const char* cause = energy_test.failure()) {
+          fail(cause);
           break;
         }
       }

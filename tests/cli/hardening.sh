@@ -88,6 +88,13 @@ expect 2 "$clothbench" stability "$chain" -o "$work/dup" -q -j 1 -e custom-rk4 -
   --resume
 has stderr "dup/stability.csv:3: cannot resume: a second row for custom-rk4,symplectic-euler" \
   "duplicated row"
+# class 9: a garbage number in a resumed row is an error naming the file, line, column and value
+cp -r "$work/dup" "$work/garbage"
+sed -i '3d' "$work/garbage/stability.csv"
+sed -i '2s/^\(custom-rk4,symplectic-euler,\)[^,]*/\10.00x1/' "$work/garbage/stability.csv"
+expect 2 "$clothbench" stability "$chain" -o "$work/garbage" -q -j 1 -e custom-rk4 \
+  -i symplectic-euler --resume
+has stderr 'garbage/stability.csv:2: stable_dt: expected a number, got "0.00x1"' "garbage row"
 # ... an accuracy sweep that stops with exit 2 (its reference blows up) leaves nothing it made,
 # and no fits of an older sweep beside its rows
 expect 2 "$clothbench" accuracy "$chain" -o "$work/acc" -q -j 1 --set blowup_strain=1e-12

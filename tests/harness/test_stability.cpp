@@ -3,10 +3,12 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "cloth/linear_stability.hpp"
 #include "harness/csv_writer.hpp"
+#include "harness/metrics.hpp"
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
 #include "harness/stability_sweep.hpp"
@@ -334,4 +336,18 @@ TEST_CASE("the stability sweep does not depend on the number of jobs", "[stabili
   const std::string a = read_file(one.path / "stability.csv");
   CHECK(std::count(a.begin(), a.end(), '\n') == 4);
   CHECK(a == read_file(three.path / "stability.csv"));
+}
+
+TEST_CASE("a NaN or infinite energy error never reads as stable", "[stability]") {
+  const Scenario sc = parse_scenario(kScene, "small.toml");
+  const EnergyScale scale(cloth::build_model(sc.scene));
+  REQUIRE(scale.value() > 0);
+  const double limit = sc.blowup_energy;
+  CHECK_FALSE(scale.exceeded_by(0.0, limit));
+  CHECK_FALSE(scale.exceeded_by(-1e9, limit));  // losing energy is dissipation
+  CHECK(scale.exceeded_by(2 * limit * scale.value(), limit));
+  CHECK(scale.exceeded_by(std::nan(""), limit));
+  CHECK(scale.exceeded_by(std::numeric_limits<double>::infinity(), limit));
+  // a NaN limit (a tolerance that never parsed) fails every error rather than passing it
+  CHECK(scale.exceeded_by(0.0, std::nan("")));
 }
