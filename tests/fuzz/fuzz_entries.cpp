@@ -2,13 +2,16 @@
 
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <stdexcept>
 
 #include "harness/csv_reader.hpp"
 #include "harness/scenario_loader.hpp"
+#include "harness/tolerances_file.hpp"
 #include "harness/user_error.hpp"
 
 namespace clothbench::fuzz {
@@ -17,6 +20,16 @@ namespace {
 
 std::string text_of(const std::uint8_t* data, std::size_t size) {
   return std::string(reinterpret_cast<const char*>(data), size);
+}
+
+/// The input written to a scratch file of this process (the readers take a path).
+std::string scratch_file(const char* suffix, const std::uint8_t* data, std::size_t size) {
+  const std::string path = (std::filesystem::temp_directory_path() /
+                            ("clothbench-fuzz-" + std::to_string(::getpid()) + suffix))
+                               .string();
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  return path;
 }
 
 }  // namespace
@@ -40,14 +53,7 @@ void overrides(const std::uint8_t* data, std::size_t size) {
 }
 
 void csv_file(const std::uint8_t* data, std::size_t size) {
-  // the reader takes a path: one scratch file per process, rewritten for every input
-  static const std::string path = (std::filesystem::temp_directory_path() /
-                                   ("clothbench-fuzz-" + std::to_string(::getpid()) + ".csv"))
-                                      .string();
-  {
-    std::ofstream out(path, std::ios::binary | std::ios::trunc);
-    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  }
+  const std::string path = scratch_file(".csv", data, size);
   try {
     const CsvTable table = read_csv_leniently(path);
     for (const CsvRecord& r : table.records)
@@ -66,9 +72,25 @@ void csv_file(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+void tolerances_file(const std::uint8_t* data, std::size_t size) {
+  const std::string path = scratch_file(".toml", data, size);
+  try {
+    const Tolerances t = read_tolerances(path);
+    // what the reader accepts is usable: every tolerance a finite number >= 0
+    for (const auto& [name, tol] : t.quantity)
+      if (!(tol.abs >= 0 && tol.rel >= 0 && std::isfinite(tol.abs) && std::isfinite(tol.rel)))
+        throw std::logic_error("tolerance " + name + " accepted but not a finite number >= 0");
+    if (t.stability && !(t.stability_rel_tol > 0 && std::isfinite(t.stability_rel_tol)))
+      throw std::logic_error("stability.rel_tol accepted but not a finite number > 0");
+  } catch (const UserError&) {
+  }
+}
+
 const std::vector<std::pair<std::string, Entry>>& entries() {
-  static const std::vector<std::pair<std::string, Entry>> all = {
-      {"scenario", scenario_text}, {"overrides", overrides}, {"csv", csv_file}};
+  static const std::vector<std::pair<std::string, Entry>> all = {{"scenario", scenario_text},
+                                                                 {"overrides", overrides},
+                                                                 {"csv", csv_file},
+                                                                 {"tolerances", tolerances_file}};
   return all;
 }
 

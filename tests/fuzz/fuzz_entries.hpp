@@ -22,7 +22,11 @@ void overrides(const std::uint8_t* data, std::size_t size);
 /// number and as an integer.
 void csv_file(const std::uint8_t* data, std::size_t size);
 
-/// The entries by name, for scripts/fuzz and the replay test: "scenario", "overrides", "csv".
+/// The input as a baseline's tolerances.toml.
+void tolerances_file(const std::uint8_t* data, std::size_t size);
+
+/// The entries by name, for scripts/fuzz and the replay test: "scenario", "overrides", "csv",
+/// "tolerances".
 using Entry = void (*)(const std::uint8_t*, std::size_t);
 const std::vector<std::pair<std::string, Entry>>& entries();
 

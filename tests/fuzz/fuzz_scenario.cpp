@@ -1,5 +1,6 @@
 /// @file fuzz_scenario.cpp
-/// libFuzzer target: clothbench::fuzz::scenario_text (see fuzz_entries.hpp). Built by the fuzz preset.
+/// libFuzzer target: clothbench::fuzz::scenario_text (see fuzz_entries.hpp). Built by the fuzz
+/// preset.
 
 #include <cstddef>
 #include <cstdint>

@@ -41,8 +41,7 @@ TEST_CASE("every saved fuzz input and seed is refused or accepted, never a bug",
     std::vector<fs::path> inputs = files_under(kSource / "tests" / "data" / "fuzz" / name);
     for (const char* seeds : {"scenarios", "tests/data/good", "tests/data/bad"})
       for (const fs::path& p : files_under(kSource / seeds)) inputs.push_back(p);
-    for (const fs::path& p : files_under(kSource / "reference" / "baselines"))
-      inputs.push_back(p);
+    for (const fs::path& p : files_under(kSource / "reference" / "baselines")) inputs.push_back(p);
     for (const fs::path& p : inputs) {
       INFO(name << " <- " << p.string());
       const std::string data = bytes_of(p);
