@@ -16,6 +16,10 @@ const char* integrator_name(Integrator i) {
       return "rk4";
     case Integrator::implicit_euler:
       return "implicit-euler";
+    case Integrator::xpbd:
+      return "xpbd";
+    case Integrator::projective:
+      return "projective";
   }
   return "?";
 }
@@ -26,7 +30,9 @@ const std::vector<Integrator>& all_integrators() {
                                               Integrator::picard_implicit,
                                               Integrator::midpoint,
                                               Integrator::rk4,
-                                              Integrator::implicit_euler};
+                                              Integrator::implicit_euler,
+                                              Integrator::xpbd,
+                                              Integrator::projective};
   return all;
 }
 
@@ -41,6 +47,8 @@ int force_evals_per_step(Integrator i) {
     case Integrator::explicit_euler:
     case Integrator::symplectic_euler:
     case Integrator::implicit_euler:
+    case Integrator::xpbd:
+    case Integrator::projective:
       return 1;
     case Integrator::picard_implicit:
     case Integrator::midpoint:

@@ -30,6 +30,8 @@ cd amplification(Integrator i, cd z) {
     case Integrator::implicit_euler:
       return 1.0 / (1.0 - z);
     case Integrator::symplectic_euler:
+    case Integrator::xpbd:
+    case Integrator::projective:
       break;
   }
   return 0.0;
@@ -303,7 +305,10 @@ LinearSpectrum linear_spectrum(const Model& model, int max_steps, int dense_max_
 }
 
 double predicted_stable_dt(Integrator i, const LinearSpectrum& s) {
-  if (i == Integrator::implicit_euler || s.omega_max <= 0)
+  // backward Euler, and the two position solvers whose springs act implicitly in position,
+  // have no linear limit
+  if (i == Integrator::implicit_euler || i == Integrator::xpbd || i == Integrator::projective ||
+      s.omega_max <= 0)
     return std::numeric_limits<double>::infinity();
   if (i == Integrator::symplectic_euler && s.coupled_omega2.size() > 0)
     return symplectic_coupled_limit(s);

@@ -2,6 +2,7 @@
 
 #include "cloth/sphere_collision.hpp"
 #include "cloth/spring_forces.hpp"
+#include "cloth/xpbd.hpp"
 
 namespace cloth {
 
@@ -17,6 +18,8 @@ MassSpringCloth::MassSpringCloth(const Scene& scene, const SolverOptions& option
   if (options.integrator == Integrator::implicit_euler &&
       options.newton == NewtonMethod::line_search)
     m_newton = std::make_unique<ImplicitEulerNewton>(m_model, options);
+  if (options.integrator == Integrator::projective)
+    m_projective = std::make_unique<ProjectiveSolver>(m_model);
 }
 
 void MassSpringCloth::set_state(const Matrix3X& x, const Matrix3X& v) {
@@ -106,6 +109,12 @@ void MassSpringCloth::step(double h) {
           h * (damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
       break;
     }
+    case Integrator::xpbd:
+      dissipated = xpbd_step(m_model, m_options, h, m_x, m_v, m_x1, m_counters);
+      break;
+    case Integrator::projective:
+      dissipated = m_projective->step(m_model, m_options, h, m_x, m_v, m_counters);
+      break;
   }
   m_t += h;
   ++m_counters.steps;

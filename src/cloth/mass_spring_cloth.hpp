@@ -1,13 +1,14 @@
 #pragma once
 /// @file mass_spring_cloth.hpp
-/// The custom mass-spring cloth engine: the report's model with six integrators.
+/// The custom mass-spring cloth engine: the report's model with eight integrators.
 
-#include "cloth/conjugate_gradient.hpp"
 #include <memory>
+#include "cloth/conjugate_gradient.hpp"
 
 #include "cloth/implicit_euler.hpp"
 #include "cloth/integrator.hpp"
 #include "cloth/model.hpp"
+#include "cloth/projective.hpp"
 #include "cloth/scene.hpp"
 #include "cloth/simulator.hpp"
 #include "cloth/solver_options.hpp"
@@ -64,7 +65,8 @@ class MassSpringCloth final : public Simulator {
   Matrix3X m_rhs, m_dv, m_diag, m_tmp;  // implicit solve
   SpringLinearization m_lin;
   CgWorkspace m_cg;
-  std::unique_ptr<ImplicitEulerNewton> m_newton;  // implicit-euler with newton = line-search
+  std::unique_ptr<ImplicitEulerNewton> m_newton;   // implicit-euler with newton = line-search
+  std::unique_ptr<ProjectiveSolver> m_projective;  // projective
 };
 
 }  // namespace cloth

@@ -15,8 +15,10 @@ struct Counters {
   std::int64_t force_evals = 0;    // full force evaluations
   std::int64_t cg_iterations = 0;  // conjugate-gradient iterations (implicit solvers)
   std::int64_t newton_iterations = 0;
-  std::int64_t contact_tests = 0;   // particle-sphere distance tests
-  std::int64_t cg_unconverged = 0;  // linear solves that stopped at the iteration limit
+  std::int64_t contact_tests = 0;           // particle-sphere distance tests
+  std::int64_t cg_unconverged = 0;          // linear solves that stopped at the iteration limit
+  std::int64_t constraint_projections = 0;  // xpbd: one spring constraint projected once
+  std::int64_t linear_solves = 0;           // projective: prefactored global solves (3 axes each)
 };
 
 /// One engine running one scene. Particle order, masses and units are the scene's.

@@ -36,12 +36,14 @@ std::optional<LinearSolver> parse_linear_solver(std::string_view name);
 struct SolverOptions {
   Integrator integrator = Integrator::rk4;
   NewtonMethod newton = NewtonMethod::linearized;  // implicit-euler
-  int newton_iterations = 1;     // implicit-euler: limit; linearized with 1 is Baraff and Witkin
+  int newton_iterations = 1;       // implicit-euler: limit; linearized with 1 is Baraff and Witkin
   double newton_tolerance = 1e-2;  // implicit-euler, line-search: max |M^-1 residual| (m/s)
   LinearSolver linear_solver = LinearSolver::automatic;  // implicit-euler
   double cg_tolerance = 1e-8;    // implicit-euler: relative residual |S r| / |S b|
   int cg_max_iterations = 2000;  // implicit-euler
   bool clamp_compressed = true;  // implicit-euler: drop negative transverse stiffness
+  int substeps = 1;              // xpbd: substeps per step
+  int iterations = 10;           // xpbd: sweeps per substep; projective: local/global iterations
 };
 
 /// Newton iteration limit of line-search mode when the scenario does not give one.

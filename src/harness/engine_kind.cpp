@@ -8,7 +8,7 @@ const std::vector<EngineKindInfo>& engine_kind_table() {
   static const std::vector<EngineKindInfo> table = {
       {EngineKind::custom, "custom", true, false, true, "",
        {"integrator", "newton", "newton_iterations", "newton_tolerance", "linear_solver",
-        "cg_tolerance", "cg_max_iterations", "clamp_compressed"}},
+        "cg_tolerance", "cg_max_iterations", "clamp_compressed", "substeps", "iterations"}},
       {EngineKind::bullet_deformable, "bullet-deformable", false, true, true, "",
        {"implicit", "line_search", "projection"}},
       // no spring damper: the projection dissipates, and the adapter books each step's energy

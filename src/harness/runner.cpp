@@ -353,10 +353,10 @@ void write_run_info(const std::string& dir) {
   info.commit();
 }
 
-void write_run(const RunResult& result, const std::string& out) {
-  make_directories(out);
-  StagedFolder staged(out);
-  const std::string dir = staged.path();
+namespace {
+
+/// Writes the run's files into dir (ending with '/').
+void write_run_files(const RunResult& result, const std::string& dir) {
   CsvWriter frames(
       dir + "frames.csv",
       {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
@@ -386,6 +386,18 @@ void write_run(const RunResult& result, const std::string& out) {
   summary.commit();
   toml.commit();
   info.commit();
+}
+
+}  // namespace
+
+void write_run(const RunResult& result, const std::string& out) {
+  make_directories(out);
+  StagedFolder staged(out);
+  try {
+    write_run_files(result, staged.path());
+  } catch (const UserError& e) {
+    throw UserError(staged.in_folder(e.what()));
+  }
   staged.commit();
 }
 

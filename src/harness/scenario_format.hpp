@@ -46,6 +46,8 @@ std::string join(const Keys& keys, const char* quote = "");
 /// far beyond what a run can do in a day, far below where step counts overflow.
 inline constexpr double kMaxSteps = 1e9;
 inline constexpr double kMaxFrames = 1e7;
+/// Largest xpbd substeps and xpbd or projective iterations per step.
+inline constexpr int kMaxSolverIterations = 10000;
 
 /// True when big is a whole multiple (at least 1) of small, to 1e-9 relative.
 bool whole_multiple(double big, double small);

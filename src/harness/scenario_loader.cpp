@@ -214,6 +214,9 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
       o.cg_tolerance = r.number(at, "cg_tolerance", cg_default, kPositive);
       o.cg_max_iterations = r.integer(at, "cg_max_iterations", o.cg_max_iterations, 1);
       o.clamp_compressed = r.boolean(at, "clamp_compressed", o.clamp_compressed);
+      // each step costs substeps x iterations sweeps: bounded so that a step always ends
+      o.substeps = r.integer(at, "substeps", o.substeps, 1, kMaxSolverIterations);
+      o.iterations = r.integer(at, "iterations", o.iterations, 1, kMaxSolverIterations);
       break;
     }
     case EngineKind::bullet_deformable: {

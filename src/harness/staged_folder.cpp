@@ -90,6 +90,13 @@ StagedFolder::~StagedFolder() {
   fs::remove_all(m_stage, ec);
 }
 
+std::string StagedFolder::in_folder(std::string message) const {
+  const std::string stage = m_stage + "/", dir = m_dir + "/";
+  for (size_t at = message.find(stage); at != std::string::npos; at = message.find(stage, at))
+    message.replace(at, stage.size(), dir), at += dir.size();
+  return message;
+}
+
 void StagedFolder::commit() {
   const fs::path dir(m_dir), stage(m_stage);
   if (m_inside) {

@@ -25,6 +25,10 @@ class StagedFolder {
   /// Where to write: the sibling folder, with a trailing '/'.
   std::string path() const { return m_stage + "/"; }
 
+  /// A message about a staged file, naming the file where it will be in the folder instead
+  /// (a user knows the folder, not the stage).
+  std::string in_folder(std::string message) const;
+
   /// Carries every entry of the folder that the stage does not replace into the stage (files
   /// as hard links, so that they never leave the folder; folders by rename), then swaps the
   /// two folders in one rename (Linux renameat2 RENAME_EXCHANGE) and removes the old one.

@@ -106,6 +106,16 @@ class Reader {
     return *i;
   }
 
+  /// An integer in [min, max].
+  int integer(const At& at, std::string_view key, int def, int min, int max) const {
+    const int i = integer(at, key, def, min);
+    if (i > max)
+      fail(at.table.get(key), at.key(key),
+           "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) +
+               "], got " + std::to_string(i));
+    return i;
+  }
+
   bool boolean(const At& at, std::string_view key, bool def) const {
     const toml::node* n = at.table.get(key);
     if (!n) return def;
