@@ -16,6 +16,8 @@ const char* integrator_name(Integrator i) {
       return "rk4";
     case Integrator::implicit_euler:
       return "implicit-euler";
+    case Integrator::imex_euler:
+      return "imex-euler";
   }
   return "?";
 }
@@ -26,7 +28,8 @@ const std::vector<Integrator>& all_integrators() {
                                               Integrator::picard_implicit,
                                               Integrator::midpoint,
                                               Integrator::rk4,
-                                              Integrator::implicit_euler};
+                                              Integrator::implicit_euler,
+                                              Integrator::imex_euler};
   return all;
 }
 
@@ -41,6 +44,7 @@ int force_evals_per_step(Integrator i) {
     case Integrator::explicit_euler:
     case Integrator::symplectic_euler:
     case Integrator::implicit_euler:
+    case Integrator::imex_euler:
       return 1;
     case Integrator::picard_implicit:
     case Integrator::midpoint:

@@ -2,8 +2,8 @@
 /// @file mass_spring_cloth.hpp
 /// The custom mass-spring cloth engine: the report's model with six integrators.
 
-#include "cloth/conjugate_gradient.hpp"
 #include <memory>
+#include "cloth/conjugate_gradient.hpp"
 
 #include "cloth/implicit_euler.hpp"
 #include "cloth/integrator.hpp"
@@ -46,6 +46,7 @@ class MassSpringCloth final : public Simulator {
 
  private:
   void step_implicit_euler(double h);
+  void step_imex_euler(double h);
   /// Resolves sphere contacts after a step and books their work in m_contact_work.
   void resolve_contacts();
 
