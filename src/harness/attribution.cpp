@@ -154,7 +154,7 @@ void write_attribution(const RunResult& result, const std::string& dir) {
       csv.skip().skip();
     else
       csv.add(r.scheme_rms).add(r.model_rms);
-    csv.add(r.note).end_row();
+    csv.add(csv_field(r.note)).end_row();
   }
   csv.commit();
 }
