@@ -122,9 +122,15 @@ void add_matched_engines(Scenario& sc, std::vector<std::string>& names) {
     if (!m) continue;
     const auto same = std::find_if(sc.engines.begin(), sc.engines.end(),
                                    [&](const EngineSpec& e) { return e.name == m->name; });
-    if (same != sc.engines.end())
-      throw UserError("--explain adds the engine " + m->name + " for " + bullet.name + ", but " +
-                      sc.source + " has an engine of that name already (rename it)");
+    if (same != sc.engines.end()) {
+      // a scenario.toml written by --explain holds it already: run it as it is
+      if (same->kind != EngineKind::custom || same->dt != m->dt ||
+          same->solver.integrator != m->solver.integrator)
+        throw UserError("--explain adds the engine " + m->name + " for " + bullet.name + ", but " +
+                        sc.source + " has another engine of that name already (rename it)");
+      if (!chosen.empty()) names.push_back(m->name);
+      continue;
+    }
     sc.engines.push_back(*m);
     if (!chosen.empty()) names.push_back(m->name);
   }

@@ -26,9 +26,10 @@ std::string matched_engine_name(const std::string& bullet_name);
 /// iteration when Bullet's line_search is on.
 std::optional<EngineSpec> matched_engine(const EngineSpec& bullet);
 
-/// Adds the matched engine of every Bullet engine of sc that names selects (empty: all) and
-/// that sc does not already hold; appends the added names to names when it is not empty, so
-/// that an -e filter keeps them. Throws UserError when a name is taken by another engine.
+/// Adds the matched engine of every Bullet engine of sc that names selects (empty: all), unless
+/// sc holds it already (a scenario.toml written by --explain); appends the matched names to
+/// names when it is not empty, so that an -e filter keeps them. Throws UserError when the name
+/// is taken by an engine of another kind, dt or integrator.
 void add_matched_engines(Scenario& sc, std::vector<std::string>& names);
 
 /// One row of attribution.csv.

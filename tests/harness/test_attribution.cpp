@@ -56,7 +56,13 @@ TEST_CASE("--explain adds the matched scheme of each bullet-deformable mode", "[
   CHECK(im->solver.integrator == cloth::Integrator::implicit_euler);
   CHECK(im->solver.newton_iterations == 1);
   CHECK_FALSE(im->solver.clamp_compressed);
-  // a second --explain on the resolved scenario finds its names taken
+  // --explain on a scenario.toml that --explain wrote runs the engines it holds
+  const size_t count = sc.engines.size();
+  add_matched_engines(sc, all);
+  CHECK(sc.engines.size() == count);
+  // but a name taken by another engine is refused
+  for (EngineSpec& e : sc.engines)
+    if (e.name == "custom-as-bullet-deformable-explicit") e.dt = 2e-3;
   CHECK_THROWS_AS(add_matched_engines(sc, all), UserError);
 }
 
