@@ -70,6 +70,17 @@ SCHEMAS = {
         ["engine", "integrator", "particles", "dt", "stable", "error_final", "wall_s_per_sim_s",
          "force_evals"],
         text=["engine", "integrator"], flags=["stable"], keys=["engine", "particles", "stable"]),
+    "reference.csv": Schema(
+        ["study", "engine", "integrator", "dt", "particles", "error_floor"],
+        text=["study", "engine", "integrator"], keys=["study", "engine"]),
+    "resolution_recommendation.csv": Schema(
+        ["scope", "engine", "integrator", "particles", "dt", "error_final", "wall_s_per_sim_s",
+         "tolerance"],
+        text=["scope", "engine", "integrator"], keys=["scope"]),
+    "attribution.csv": Schema(
+        ["engine", "reference", "matched", "at", "t", "total_rms", "scheme_rms", "model_rms",
+         "note"],
+        text=["engine", "reference", "matched", "at", "note"], keys=["engine", "at"]),
 }
 
 _TRUE = {"1", "true", "True", "TRUE"}

@@ -156,6 +156,8 @@ def run_verdicts(f):
                 for e, us, n in cost) + "."))
     if lines:
         groups.append(("Drape and cost", lines))
+    from .attribution import attribution_verdicts
+    groups += [g for g in [attribution_verdicts(f)] if g]
     return groups
 
 

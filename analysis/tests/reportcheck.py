@@ -28,6 +28,8 @@ IMAGES_FROM = {
     "convergence.csv": ["convergence"],
     "stability.csv": ["stability"],
     "resolution.csv": ["resolution"],
+    "reference.csv": ["reference"],
+    "resolution_recommendation.csv": ["resolution_recommendation"],
 }
 
 # sensible pixel sizes of a report image (12 in wide at 110 dpi is 1320 px)

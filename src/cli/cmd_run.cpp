@@ -8,6 +8,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "harness/attribution.hpp"
 #include "harness/output_lock.hpp"
 #include "harness/runner.hpp"
 #include "harness/summaries.hpp"
@@ -23,12 +24,14 @@ struct RunArgs {
   std::vector<std::string> engines;    // empty: every engine
   std::vector<std::string> overrides;  // --set KEY=VALUE
   bool quiet = false;
+  bool explain = false;        // --explain: matched engines and attribution.csv
   double max_run_seconds = 0;  // s, 0: no limit
 };
 
 int execute_run(RunArgs a) {
   Scenario sc = load_or_seed(a.scenario_path, a.overrides, a.engines);
   sc.max_run_seconds = a.max_run_seconds;
+  if (a.explain) add_matched_engines(sc, a.engines);
   if (a.out.empty()) a.out = "out/" + sc.name;
   refuse_overwriting_input(a.scenario_path, a.out, "scenario.toml");
   const OutputLock lock(a.out);
@@ -37,9 +40,10 @@ int execute_run(RunArgs a) {
   options.progress = !a.quiet;
   const RunResult result = run_scenario(sc, options);
   write_run(result, a.out);
+  if (a.explain) write_attribution(result, a.out);
   if (!a.quiet)
-    std::cerr << "wrote " << a.out
-              << "/{frames,divergence,snapshots,summary}.csv, scenario.toml, run.json\n";
+    std::cerr << "wrote " << a.out << "/{frames,divergence,snapshots,summary"
+              << (a.explain ? ",attribution" : "") << "}.csv, scenario.toml, run.json\n";
   std::cout << run_summary(result) << std::flush;
   // what the table's numbers are in, and where to look next (stderr: stdout stays a CSV)
   if (!a.quiet)
@@ -70,6 +74,12 @@ Command add_run_command(CLI::App& app) {
          "override a scenario key, e.g. cloth.damping=0 or engine.custom-rk4.dt=2e-4 (repeatable)")
       ->allow_extra_args(false);
   add_max_run_seconds(run, a->max_run_seconds);
+  run->add_flag("--explain", a->explain,
+                "for each Bullet engine also run the custom engine with its time scheme and dt "
+                "(custom-as-<name>: imex-euler for bullet-deformable's explicit mode, "
+                "implicit-euler for its implicit mode) and write attribution.csv, which splits "
+                "the Bullet engine's distance from the reference into scheme_rms (reference vs "
+                "that engine) and model_rms (that engine vs Bullet)");
   run->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   run->footer(
       "Exit status: 0 when every engine ran (an unstable run is a result), 2 for bad input, 70 "

@@ -16,6 +16,8 @@ const char* integrator_name(Integrator i) {
       return "rk4";
     case Integrator::implicit_euler:
       return "implicit-euler";
+    case Integrator::imex_euler:
+      return "imex-euler";
     case Integrator::xpbd:
       return "xpbd";
     case Integrator::projective:
@@ -31,6 +33,7 @@ const std::vector<Integrator>& all_integrators() {
                                               Integrator::midpoint,
                                               Integrator::rk4,
                                               Integrator::implicit_euler,
+                                              Integrator::imex_euler,
                                               Integrator::xpbd,
                                               Integrator::projective};
   return all;
@@ -47,6 +50,7 @@ int force_evals_per_step(Integrator i) {
     case Integrator::explicit_euler:
     case Integrator::symplectic_euler:
     case Integrator::implicit_euler:
+    case Integrator::imex_euler:
     case Integrator::xpbd:
     case Integrator::projective:
       return 1;

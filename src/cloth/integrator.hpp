@@ -17,19 +17,22 @@ enum class Integrator {
   midpoint,          ///< explicit midpoint (RK2)
   rk4,               ///< classic fourth-order Runge-Kutta
   implicit_euler,    ///< backward Euler, Newton-linearised, filtered conjugate gradient
+  imex_euler,        ///< Bullet's deformable explicit scheme: springs and gravity explicit,
+                     ///< x += h v, spring dampers implicit (one linear solve per step)
   xpbd,              ///< extended position-based dynamics on the springs (xpbd.hpp)
   projective         ///< fast mass-springs: local/global backward Euler (projective.hpp)
 };
 
 /// "explicit-euler", "symplectic-euler", "picard-implicit", "midpoint", "rk4", "implicit-euler",
-/// "xpbd", "projective".
+/// "imex-euler", "xpbd", "projective".
 const char* integrator_name(Integrator i);
 /// The integrator with that name, if any.
 std::optional<Integrator> parse_integrator(std::string_view name);
 /// Every integrator, in the order above.
 const std::vector<Integrator>& all_integrators();
 /// Force evaluations per step of the explicit methods (implicit-euler: per Newton iteration;
-/// xpbd: per substep and iteration, one sweep over the springs; projective: per iteration).
+/// imex-euler: the elastic forces once, its damping solve counted in CG iterations; xpbd: per
+/// substep and iteration, one sweep over the springs; projective: per iteration).
 int force_evals_per_step(Integrator i);
 /// Order of accuracy of the method.
 int integrator_order(Integrator i);

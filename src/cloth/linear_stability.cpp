@@ -30,6 +30,8 @@ cd amplification(Integrator i, cd z) {
     case Integrator::implicit_euler:
       return 1.0 / (1.0 - z);
     case Integrator::symplectic_euler:
+    case Integrator::imex_euler:
+      break;  // not a one-step map of (x, v) as one system: see radius()
     case Integrator::xpbd:
     case Integrator::projective:
       break;
@@ -55,6 +57,18 @@ double radius(Integrator i, double h, double omega, double a) {
     const double e = 0.5 * (h * a + h * h * omega * omega);
     const cd root = std::sqrt(cd(e * e - h * h * omega * omega, 0.0));
     return std::max(std::abs(1.0 - e + root), std::abs(1.0 - e - root));
+  }
+  if (i == Integrator::imex_euler) {
+    // v1 = (v0 - h omega^2 x0) / (1 + h a), x1 = x0 + h v1: the step matrix has determinant
+    // d = 1 / (1 + h a) and trace (2 + u - w) d, u = h a, w = h^2 omega^2; its discriminant,
+    // written without cancellation, is ((u - w)^2 - 4 w) d^2 / 4
+    const double u = h * a, w = h * h * omega * omega, d = 1.0 / (1.0 + u);
+    const double disc = (u - w) * (u - w) - 4.0 * w;
+    if (disc < 0.0) return std::sqrt(d);  // a complex pair of modulus sqrt(det)
+    const double b = 2.0 + u - w;
+    const double q = b + std::copysign(std::sqrt(disc), b);  // the larger root, no cancellation
+    const double big = std::abs(q) * 0.5 * d;
+    return std::max(big, big > 0.0 ? d / big : 0.0);
   }
   // roots of lambda^2 + a lambda + omega^2 = 0
   const cd disc = std::sqrt(cd(a * a - 4.0 * omega * omega, 0.0));

@@ -14,7 +14,9 @@ MassSpringCloth::MassSpringCloth(const Scene& scene, const SolverOptions& option
   for (Matrix3X* m :
        {&m_force, &m_buf, &m_x1, &m_v1, &m_k1, &m_k2, &m_k3, &m_k4, &m_rhs, &m_dv, &m_diag, &m_tmp})
     m->setZero(3, n);
-  if (options.integrator == Integrator::implicit_euler) m_cg.resize(n);
+  if (options.integrator == Integrator::implicit_euler ||
+      options.integrator == Integrator::imex_euler)
+    m_cg.resize(n);
   if (options.integrator == Integrator::implicit_euler &&
       options.newton == NewtonMethod::line_search)
     m_newton = std::make_unique<ImplicitEulerNewton>(m_model, options);
@@ -109,6 +111,13 @@ void MassSpringCloth::step(double h) {
           h * (damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
       break;
     }
+    case Integrator::imex_euler: {
+      step_imex_euler(h);
+      // booked as the Bullet adapters book it: the damping power of the new state
+      dissipated =
+          h * (damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
+      break;
+    }
     case Integrator::xpbd:
       dissipated = xpbd_step(m_model, m_options, h, m_x, m_v, m_x1, m_counters);
       break;
@@ -192,6 +201,45 @@ void MassSpringCloth::step_implicit_euler(double h) {
   }
   m_x = m_x1;
   m_v = m_v1;
+}
+
+void MassSpringCloth::step_imex_euler(double h) {
+  // Bullet 3.24's deformable explicit mode (btDeformableBodySolver with implicit = false):
+  //   v* = v0 + h (M^-1 f_elastic(x0) + g)            springs and gravity explicit at x0
+  //   (M - h D(x0)) dv = h D(x0) v*, v1 = v* + dv      dampers implicit, directions at x0
+  //   x1 = x0 + h v1                                    symplectic position update
+  // then air drag as the implicit sub-step v1 /= 1 + h drag / m that the Bullet adapters
+  // apply after Bullet's step (Bullet's deformable world has no drag)
+  const Model& m = m_model;
+  ++m_counters.force_evals;
+  linearize_springs(m.springs, m_x, false, m_lin);
+  m_tmp.setZero();  // zero velocities: the elastic forces alone
+  m_force.setZero();
+  add_spring_forces(m.springs, m_x, m_tmp, m_force, m_buf);
+  for (int r = 0; r < 3; ++r)
+    m_v.row(r) +=
+        h * (m_force.row(r).cwiseProduct(m.inv_mass.transpose()).array() + m.gravity[r]).matrix();
+  if (m.any_held) m_v = (m.free.array() > 0.0).select(m_v, 0.0);
+  // the damping solve, from dv = 0 as Bullet's conjugate gradient starts
+  m_rhs.setZero();
+  add_jacobian_product(m.springs, m_lin, m_v, 0.0, h, m_rhs, m_buf);
+  for (int r = 0; r < 3; ++r) m_diag.row(r) = m.mass.transpose();
+  add_jacobian_diagonal(m.springs, m_lin, 0.0, -h, m_diag, m_buf);
+  m_diag = m_diag.cwiseInverse();
+  auto apply = [&](const Matrix3X& u, Matrix3X& out) {
+    for (int r = 0; r < 3; ++r) out.row(r) = u.row(r).cwiseProduct(m.mass.transpose());
+    add_jacobian_product(m.springs, m_lin, u, 0.0, -h, out, m_buf);
+  };
+  const CgResult cg = filtered_pcg(apply, m_rhs, m_diag, m.free, m_dv, m_cg, m_options.cg_tolerance,
+                                   m_options.cg_max_iterations);
+  m_counters.cg_iterations += cg.iterations;
+  if (cg.relative_residual > m_options.cg_tolerance) ++m_counters.cg_unconverged;
+  m_v += m_dv;
+  m_x += h * m_v;
+  if (m.air_drag != 0.0)
+    for (int r = 0; r < 3; ++r)
+      m_v.row(r) = m_v.row(r).cwiseQuotient(
+          (1.0 + h * m.air_drag * m.inv_mass.transpose().array()).matrix());
 }
 
 }  // namespace cloth

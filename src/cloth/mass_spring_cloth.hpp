@@ -47,6 +47,7 @@ class MassSpringCloth final : public Simulator {
 
  private:
   void step_implicit_euler(double h);
+  void step_imex_euler(double h);
   /// Resolves sphere contacts after a step and books their work in m_contact_work.
   void resolve_contacts();
 

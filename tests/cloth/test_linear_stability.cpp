@@ -51,6 +51,8 @@ TEST_CASE("predicted limits of a two-particle spring equal the closed forms",
     CHECK(predicted_stable_dt(Integrator::explicit_euler, s) * w < 2e-6);
     CHECK(predicted_stable_dt(Integrator::midpoint, s) * w < 6e-3);
     CHECK(std::isinf(predicted_stable_dt(Integrator::implicit_euler, s)));
+    // imex-euler without damping is symplectic Euler: h w = 2
+    CHECK(predicted_stable_dt(Integrator::imex_euler, s) == Approx(2.0 / w).epsilon(1e-6));
   }
   SECTION("underdamped") {
     const double c = 1.0, a = c / m;  // a^2 = 4 < 4 w^2 = 1600
@@ -60,6 +62,9 @@ TEST_CASE("predicted limits of a two-particle spring equal the closed forms",
     // symplectic Euler: det = 1 - h a, trace condition h^2 w^2 + 2 a h <= 4
     CHECK(predicted_stable_dt(Integrator::symplectic_euler, s) ==
           Approx((std::sqrt(a * a + 4 * w2) - a) / w2).epsilon(1e-6));
+    // imex-euler: det = 1 / (1 + h a), trace condition h^2 w^2 <= 4 + 2 a h
+    CHECK(predicted_stable_dt(Integrator::imex_euler, s) ==
+          Approx((std::sqrt(a * a + 4 * w2) + a) / w2).epsilon(1e-6));
   }
   SECTION("overdamped") {
     const double c = 100.0, a = c / m;  // a^2 = 40000 > 4 w^2
@@ -74,6 +79,9 @@ TEST_CASE("predicted limits of a two-particle spring equal the closed forms",
     CHECK(predicted_stable_dt(Integrator::symplectic_euler, s) ==
           Approx((std::sqrt(a * a + 4 * w2) - a) / w2).epsilon(1e-6));
     CHECK(limiting_mode(Integrator::explicit_euler, s).find("overdamped") != std::string::npos);
+    // imex-euler's implicit damping: h^2 w^2 <= 4 + 2 a h, a hundred times symplectic Euler
+    CHECK(predicted_stable_dt(Integrator::imex_euler, s) ==
+          Approx((std::sqrt(a * a + 4 * w2) + a) / w2).epsilon(1e-6));
   }
 }
 

@@ -15,9 +15,9 @@
 #include "test_scenes.hpp"
 
 using namespace cloth;
-using clothbench::EngineSpec;
 using clothbench::engine_refusal;
 using clothbench::EngineKind;
+using clothbench::EngineSpec;
 using clothbench::make_engine;
 
 namespace {
@@ -33,6 +33,10 @@ constexpr double kFirstOrderRatioLow = 1.7, kFirstOrderRatioHigh = 2.3;
 constexpr double kEnergyDriftRelative = 0.01;
 /// Backward Euler never gains energy: only round-off may lift E + dissipation above E_0.
 constexpr double kEnergyRoundoff = 1e-9;
+/// The issue's requirement for imex-euler against Bullet's explicit mode, largest frame RMS on
+/// the flag over 2 s at dt = 1e-3. Measured 4.0e-11 m; 3.8e-11 m with our damping solve exact
+/// (cg_tolerance 1e-14), the size of Bullet's own CG stopping (README, imex-euler).
+constexpr double kImexAgreement = 1e-6;  // m
 /// The issue's requirement for one matched link. Measured: -0.5% to -0.6% (the projection
 /// stiffens by about half the link's strain, here 1%; see bullet_softbody.hpp).
 constexpr double kSingleLinkRelative = 0.02;
@@ -158,6 +162,21 @@ double rms_distance(Simulator& a, Simulator& b, double dt, double duration) {
   return std::sqrt(sum / frames);
 }
 
+/// Largest over 10 ms frames of the RMS over particles of the distance between two engines.
+double max_frame_rms(Simulator& a, Simulator& b, double dt, double duration) {
+  const int steps = static_cast<int>(std::lround(duration / dt));
+  const int per_frame = std::max(1, static_cast<int>(std::lround(0.01 / dt)));
+  double worst = 0.0;
+  for (int i = 1; i <= steps; ++i) {
+    a.step(dt);
+    b.step(dt);
+    if (i % per_frame == 0)
+      worst = std::max(worst,
+                       std::sqrt((a.positions() - b.positions()).colwise().squaredNorm().mean()));
+  }
+  return worst;
+}
+
 /// One Bullet engine configuration.
 struct Variant {
   const char* kind;
@@ -199,6 +218,28 @@ TEST_CASE("bullet-deformable and the custom engine agree on the flag", "[bullet]
   const double rms = rms_distance(*ours, *theirs, dt, 2.0);
   INFO(pairing_name(p) << ": RMS distance " << rms << " m");
   CHECK(rms < kEquivalentRms * std::min(s.cloth.size_u, s.cloth.size_v));
+}
+
+TEST_CASE("imex-euler is bullet-deformable's explicit scheme", "[bullet]") {
+  // The issue's goal: on the flag without contact, over 2 s at dt = 1e-3, the custom
+  // imex-euler and Bullet's explicit mode agree within 1e-6 m RMS at every frame. Measured:
+  // see kImexAgreement. A scheme that differs in one detail fails it by orders of magnitude:
+  // symplectic Euler (damping explicit) is 9.4e-5 m away at its worst frame.
+  const Scene s = flag_scene();
+  const double dt = 1e-3;
+  SolverOptions o;
+  o.integrator = Integrator::imex_euler;
+  MassSpringCloth ours(s, o);
+  auto theirs = bullet(s, "bullet-deformable", dt, false);
+  const double worst = max_frame_rms(ours, *theirs, dt, 2.0);
+  INFO("imex-euler vs bullet-deformable explicit: largest frame RMS " << worst << " m");
+  CHECK(worst < kImexAgreement);
+  // and the same comparison fails for a scheme one detail away (damping explicit)
+  auto near = custom(s, Integrator::symplectic_euler);
+  auto again = bullet(s, "bullet-deformable", dt, false);
+  const double other = max_frame_rms(*near, *again, dt, 2.0);
+  INFO("symplectic-euler vs bullet-deformable explicit: largest frame RMS " << other << " m");
+  CHECK(other > 10.0 * kImexAgreement);
 }
 
 TEST_CASE("what separates bullet-deformable from the custom engine is first order in dt",
@@ -459,8 +500,8 @@ TEST_CASE("Bullet engines refuse what they cannot model", "[bullet]") {
   const Scene ok = flag_scene();
   // the refusal is pure (nothing built), and building the engine anyway is refused alike
   auto refuses = [](const Scene& s, const EngineSpec& e, const std::string& words) {
-    INFO(clothbench::engine_kind_name(e.kind) << ": expecting a refusal naming \"" << words
-                                              << "\"");
+    INFO(clothbench::engine_kind_name(e.kind)
+         << ": expecting a refusal naming \"" << words << "\"");
     const auto refusal = engine_refusal(e, s);
     REQUIRE(refusal);
     CHECK_THAT(refusal->why, Catch::Contains(words));
@@ -519,7 +560,6 @@ TEST_CASE("Bullet engines refuse what they cannot model", "[bullet]") {
     e.kind = EngineKind::custom;
     CHECK_FALSE(engine_refusal(e, s));
   }
-
 }
 
 TEST_CASE("Bullet modes on the seed scene: time per step and largest stable dt",
