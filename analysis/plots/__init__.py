@@ -3,12 +3,12 @@ draw(folders, ctx) -> PNG path, where folders is one Folder or two (--compare). 
 have nothing to show on some data also has skip_reason(folders) -> None, or the sentence the page
 shows in its place."""
 
-from . import (convergence, divergence, drape, energy, resolution, shadow, stability, strain,
-               work_precision)
+from . import (convergence, divergence, drape, energy, resolution, shadow, stability,
+               stability_map, strain, work_precision)
 
 # in the order the report shows them
 ALL = [energy, divergence, strain, drape, shadow, work_precision, convergence, resolution,
-       stability]
+       stability, stability_map]
 
 
 class Context:

@@ -28,6 +28,7 @@ IMAGES_FROM = {
     "convergence.csv": ["convergence"],
     "stability.csv": ["stability"],
     "resolution.csv": ["resolution"],
+    "map.csv": ["stability_map"],
 }
 
 # sensible pixel sizes of a report image (12 in wide at 110 dpi is 1320 px)
