@@ -57,7 +57,8 @@ Command add_map_command(CLI::App& app) {
       "Writes map.csv (the varied values, then the columns of stability.csv), one stability\n"
       "sweep per point under points/, and map_scenario.toml, which --resume checks.\n"
       "Examples:\n"
-      "  clothbench map -e custom-rk4 -i symplectic-euler --vary cloth.particles=9,17,33,65\n"
+      "  clothbench map -e custom-rk4 -i symplectic-euler --vary cloth.particles=9,17,33,65 \\\n"
+      "      --set cloth.total_mass=625\n"
       "  clothbench map SCEN --vary cloth.stiffness.structural=1e2:1e5:log:7 --vary "
       "cloth.damping=0,10");
   map->add_option("scenario", a->scenario_path,
