@@ -54,6 +54,11 @@ SCHEMAS = {
         ["engine", "integrator", "stable_dt", "first_unstable_dt", "predicted_dt",
          "ratio_measured_to_predicted", "cause"],
         text=["engine", "integrator", "cause"], keys=["engine"]),
+    # clothbench map: the varied keys' columns come first and are kept as text
+    "map.csv": Schema(
+        ["engine", "integrator", "stable_dt", "first_unstable_dt", "predicted_dt",
+         "ratio_measured_to_predicted", "cause"],
+        text=["engine", "integrator", "cause"], keys=["engine"]),
     "work_precision.csv": Schema(
         ["engine", "integrator", "dt", "stable", "error_final", "error_max", "wall_s",
          "wall_s_per_sim_s", "force_evals", "cg_iterations"],

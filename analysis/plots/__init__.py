@@ -4,11 +4,12 @@ have nothing to show on some data also has skip_reason(folders) -> None, or the 
 shows in its place."""
 
 from . import (convergence, divergence, drape, energy, reference, resolution,
-               resolution_recommendation, shadow, stability, strain, work_precision)
+               resolution_recommendation, shadow, stability, stability_map, strain,
+               work_precision)
 
 # in the order the report shows them
 ALL = [energy, divergence, strain, drape, shadow, work_precision, convergence, resolution,
-       stability, reference, resolution_recommendation]
+       stability, stability_map, reference, resolution_recommendation]
 
 
 class Context:

@@ -30,6 +30,7 @@ IMAGES_FROM = {
     "resolution.csv": ["resolution"],
     "reference.csv": ["reference"],
     "resolution_recommendation.csv": ["resolution_recommendation"],
+    "map.csv": ["stability_map"],
 }
 
 # sensible pixel sizes of a report image (12 in wide at 110 dpi is 1320 px)

@@ -112,6 +112,7 @@ Command add_accuracy_command(CLI::App& app) {
                      "keep the rows already in the output folder and run only the rest");
   accuracy->add_option("--set,-s", a->overrides, "override a scenario key (repeatable)")
       ->allow_extra_args(false);
+  add_shard_option(accuracy, o.shard);
   add_max_run_seconds(accuracy, a->max_run_seconds);
   accuracy->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {accuracy, [a] { return execute_accuracy(*a); }, true};

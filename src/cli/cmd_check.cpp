@@ -2,6 +2,7 @@
 /// `clothbench check`: rerun scenarios and compare every gated quantity with its baseline.
 
 #include <algorithm>
+#include <chrono>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -9,6 +10,8 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "harness/csv_writer.hpp"
+#include "harness/gate_report.hpp"
 #include "harness/output_lock.hpp"
 #include "harness/regression_check.hpp"
 #include "option_checks.hpp"
@@ -20,7 +23,22 @@ namespace {
 struct CheckArgs {
   std::vector<std::string> paths;  // empty: every shipped scenario
   bool quiet = false;
+  std::string junit_path, json_path;  // --junit, --json ("" : not written)
   CheckOptions options;
+};
+
+/// The --junit and --json files, opened before any run so that an unwritable path fails at
+/// once (exit 2) instead of after the checks; they appear only when the checks are done.
+struct ReportFiles {
+  std::unique_ptr<AtomicFile> junit, json;
+  explicit ReportFiles(const CheckArgs& a) {
+    if (!a.junit_path.empty()) junit = std::make_unique<AtomicFile>(a.junit_path);
+    if (!a.json_path.empty()) json = std::make_unique<AtomicFile>(a.json_path);
+  }
+  void write(const std::vector<Gate>& gates, const std::vector<ScenarioTiming>& timings) {
+    if (junit) junit->write(junit_xml(gates, timings)), junit->commit();
+    if (json) json->write(gates_json(gates)), json->commit();
+  }
 };
 
 int execute_check(CheckArgs a) {
@@ -34,9 +52,14 @@ int execute_check(CheckArgs a) {
     lock = std::make_unique<OutputLock>(o.baseline_dir);
     o.pending = &pending;
   }
+  ReportFiles reports(a);
   std::vector<Gate> all;
+  std::vector<ScenarioTiming> timings;
   for (const std::string& p : a.paths) {
+    const auto start = std::chrono::steady_clock::now();
     const std::vector<Gate> g = check_scenario(p, o);
+    const std::chrono::duration<double> took = std::chrono::steady_clock::now() - start;
+    if (!g.empty()) timings.push_back({g.front().scenario, took.count()});
     all.insert(all.end(), g.begin(), g.end());
   }
   const long failed = std::count_if(all.begin(), all.end(), [](const Gate& g) { return !g.pass; });
@@ -48,6 +71,7 @@ int execute_check(CheckArgs a) {
   }
   const long ungated =
       std::count_if(all.begin(), all.end(), [](const Gate& g) { return !g.gated; });
+  reports.write(all, timings);
   std::cout << format_gates(all) << long(all.size()) - failed - ungated << " gates passed, "
             << failed << " failed, " << ungated << " not gated\n";
   return failed > 0 ? kExitGateFailed : kExitOk;
@@ -77,6 +101,14 @@ Command add_check_command(CLI::App& app) {
       ->add_option("--set,-s", o.overrides,
                    "override a scenario key in every scenario (repeatable)")
       ->allow_extra_args(false);
+  auto* junit = check->add_option(
+      "--junit", a->junit_path,
+      "also write the gates as a JUnit XML report to FILE (one test case per gate: scenario, "
+      "engine, quantity; a failure gives baseline, now and allowed)");
+  auto* json =
+      check->add_option("--json", a->json_path, "also write the gate table as JSON to FILE");
+  auto* update = check->get_option("--update");
+  junit->excludes(update), json->excludes(update);
   check->add_option("--jobs,-j", o.jobs, "threads for the stability searches")
       ->check(positive_integer());
   add_max_run_seconds(check, o.max_run_seconds);

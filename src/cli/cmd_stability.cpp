@@ -76,6 +76,7 @@ Command add_stability_command(CLI::App& app) {
                       "when the scenario, --set, --engine, --dt-max or --rel-tol differ)");
   stability->add_option("--set,-s", a->overrides, "override a scenario key (repeatable)")
       ->allow_extra_args(false);
+  add_shard_option(stability, o.shard);
   add_max_run_seconds(stability, a->max_run_seconds);
   stability->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {stability, [a] { return execute_stability(*a); }, true};

@@ -19,6 +19,10 @@ struct Command {
 Command add_run_command(CLI::App& app);
 /// `clothbench stability`: the largest stable time step, searched and predicted.
 Command add_stability_command(CLI::App& app);
+/// `clothbench map`: the stability search over a grid of one or two varied scenario keys.
+Command add_map_command(CLI::App& app);
+/// `clothbench merge`: the shards of a sweep joined into the unsharded sweep's files.
+Command add_merge_command(CLI::App& app);
 /// `clothbench accuracy`: error against a fine reference and cost over a time-step sweep.
 Command add_accuracy_command(CLI::App& app);
 /// `clothbench check`: the regression gates against the recorded baselines.

@@ -42,6 +42,14 @@ void add_max_run_seconds(CLI::App* sub, double& seconds) {
       ->check(positive_number());
 }
 
+void add_shard_option(CLI::App* sub, Shard& shard) {
+  sub->add_option_function<std::string>(
+         "--shard", [&shard](const std::string& text) { shard = parse_shard(text); },
+         "compute only shard K of N of the sweep's rows (a fixed split: row i goes to shard\n"
+         "i mod N + 1), for a cluster; give every shard its own --out, then `clothbench merge`")
+      ->type_name("K/N");
+}
+
 void require_known_command(const CLI::App& app, int argc, char** argv) {
   if (argc < 2 || argv[1][0] == '-') return;  // options first: CLI11 says what is wrong
   const std::string word = argv[1];

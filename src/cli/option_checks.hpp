@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include "harness/shard.hpp"
+
 namespace clothbench::cli {
 
 /// A finite number > 0 ("nan", "inf", 0 and negatives are refused, naming the value).
@@ -17,6 +19,9 @@ CLI::Validator positive_integer();
 
 /// Adds --max-run-seconds to sub, stored in seconds.
 void add_max_run_seconds(CLI::App* sub, double& seconds);
+
+/// Adds --shard K/N to sub (a sweep's share for a cluster; shard.hpp), parsed into shard.
+void add_shard_option(CLI::App* sub, Shard& shard);
 
 /// Throws UserError when argv names a command the app does not have
 /// (CLI11 alone says "A subcommand is required"): names it and lists the known ones.

@@ -56,12 +56,36 @@ struct Scenes {
   }
 };
 
+/// A shard's share of the time-step study (plan.configs and dt_keys reduced to the rows it
+/// owns), and the record of the whole study for shard.toml. Throws UserError for a shard of a
+/// sweep with a resolution study.
+ShardPlan take_shard(AccuracyPlan& plan, const Shard& shard) {
+  ShardPlan whole = {"accuracy", "work_precision.csv", {"scenario.toml", "reference.csv"}, 3,
+                     3,          plan.dt_keys};
+  if (!shard.sharded()) return whole;
+  if (!plan.grids.empty())
+    throw UserError("--shard " + shard.text() +
+                    " with --resolutions: only the time-step study can be sharded; run the "
+                    "resolution study without --shard");
+  std::vector<AccuracyConfig> configs;
+  plan.dt_keys.clear();
+  for (size_t i = 0; i < plan.configs.size(); ++i)
+    if (shard.owns(i)) {
+      configs.push_back(plan.configs[i]);
+      plan.dt_keys.push_back(plan.configs[i].key);
+    }
+  plan.configs = configs;
+  return whole;
+}
+
 /// The folder holds this sweep alone: an earlier one is only resumed when it ran the same
 /// scenario and references (its error floor is then kept); files of an earlier sweep that
 /// this one would not rewrite go. Writes scenario.toml and reference.csv.
-void prepare_folder(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& plan) {
+void prepare_folder(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& plan,
+                    const ShardPlan& shard_plan) {
   make_directories(o.out_dir);
   const std::string dir = o.out_dir + "/";
+  record_shard(dir, o.shard, shard_plan, o.resume);
   const std::string toml = scenario_to_toml(sc);
   if (o.resume) {
     const std::map<std::string, CsvRecord> earlier_refs = read_references(dir + "reference.csv");
@@ -395,14 +419,16 @@ void report(const AccuracyPlan& plan, const AccuracyOptions& o, AccuracyReport& 
 
 /// The files a sweep writes into its folder.
 const std::vector<std::string> kAccuracyFiles = {
-    "scenario.toml",  "run.json",           "reference.csv",      "work_precision.csv",
-    "resolution.csv", "convergence.csv",    "recommendation.csv", "resolution_recommendation.csv"};
+    "scenario.toml",  "run.json",        "reference.csv",      "work_precision.csv",
+    "resolution.csv", "convergence.csv", "recommendation.csv", "resolution_recommendation.csv",
+    kShardFile};
 
 AccuracyReport sweep(const Scenario& sc, const AccuracyOptions& o) {
   // plan: every configuration and reference, and the folder they go in
   AccuracyPlan plan = plan_accuracy(sc, o);
+  const ShardPlan shard_plan = take_shard(plan, o.shard);
   const std::string dir = o.out_dir + "/";
-  prepare_folder(sc, o, plan);
+  prepare_folder(sc, o, plan, shard_plan);
   write_reference_file(dir, plan);
   AccuracyRows rows(dir, plan, o.resume);
   AccuracyReport result;
@@ -429,7 +455,7 @@ AccuracyReport sweep(const Scenario& sc, const AccuracyOptions& o) {
   std::tie(result.rows, result.resolution_rows) = rows.finish(plan);
   result.files = {dir + "scenario.toml", dir + "reference.csv", dir + "work_precision.csv"};
   if (!plan.grids.empty()) result.files.push_back(dir + "resolution.csv");
-  report(plan, o, result);
+  if (!o.shard.sharded()) report(plan, o, result);  // a shard's rows are not the whole study
   return result;
 }
 

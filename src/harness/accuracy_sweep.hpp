@@ -41,6 +41,7 @@
 #include "harness/material_distance.hpp"
 #include "harness/run_parallel.hpp"
 #include "harness/scenario.hpp"
+#include "harness/shard.hpp"
 
 namespace clothbench {
 
@@ -58,6 +59,8 @@ struct AccuracyOptions {
   int jobs = default_jobs();             // threads
   bool resume = false;                   // keep the rows already in out_dir, run the rest
   bool progress = true;                  // progress bar on stderr
+  Shard shard;  // --shard K/N: only this share of the time-step study's rows (shard.hpp);
+                // the fits and recommendations are left to the merged sweep
 };
 
 /// Runs the accuracy sweep of sc described by o and writes its files into o.out_dir.

@@ -84,12 +84,26 @@ std::vector<StabilityConfig> plan_configs(const Scenario& sc, const StabilityOpt
   return configs;
 }
 
+/// The shard's share of the configurations (all of them when not sharded), and the record
+/// of the whole sweep for shard.toml.
+std::vector<StabilityConfig> shard_configs(const std::vector<StabilityConfig>& all,
+                                           const Shard& shard, ShardPlan& plan) {
+  plan = {"stability", "stability.csv", {kStabilitySidecar}, 2, 2, {}};
+  std::vector<StabilityConfig> mine;
+  for (size_t i = 0; i < all.size(); ++i) {
+    plan.units.push_back(join_fields({all[i].engine.name, all[i].integrator}, 2));
+    if (shard.owns(i)) mine.push_back(all[i]);
+  }
+  return mine;
+}
+
 /// Creates the folder, refuses to resume another sweep, records this one beside its table;
 /// returns the folder with a trailing '/'.
-std::string prepare_folder(const Scenario& sc, const StabilityOptions& o) {
+std::string prepare_folder(const Scenario& sc, const StabilityOptions& o, const ShardPlan& plan) {
   make_directories(o.out_dir);
   const std::string dir = o.out_dir + "/";
   if (o.resume) check_stability_resumable(dir, sc, o);
+  record_shard(dir, o.shard, plan, o.resume);
   AtomicFile f(dir + kStabilitySidecar);
   f.write(stability_sidecar_text(sc, o));
   f.commit();
@@ -172,8 +186,9 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
   // plan: what to search, in which folder, on which step grid
   check_options(o);
   check_step_count(sc, o);
-  const std::vector<StabilityConfig> configs = plan_configs(sc, o);
-  const std::string dir = prepare_folder(sc, o);
+  ShardPlan plan;
+  const std::vector<StabilityConfig> configs = shard_configs(plan_configs(sc, o), o.shard, plan);
+  const std::string dir = prepare_folder(sc, o, plan);
   SweepTable table(dir + "stability.csv", stability_header(), 2, o.resume);
   const StepGrid grid = step_grid(sc, o);
   const cloth::LinearSpectrum spectrum = cloth::linear_spectrum(cloth::build_model(sc.scene));

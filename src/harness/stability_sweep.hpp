@@ -13,6 +13,7 @@
 ///   stability.csv             engine,integrator,stable_dt,first_unstable_dt,predicted_dt,
 ///                             ratio_measured_to_predicted,cause,runs,rerun,rerun_unstable
 ///   stability_scenario.toml   the resolved scenario and the search options (checked by resume)
+///   shard.toml                with --shard: which share of the sweep (shard.hpp)
 
 #include <limits>
 #include <string>
@@ -20,6 +21,7 @@
 
 #include "harness/run_parallel.hpp"
 #include "harness/scenario.hpp"
+#include "harness/shard.hpp"
 #include "harness/stability_search.hpp"
 #include "harness/sweep.hpp"
 
@@ -36,6 +38,7 @@ struct StabilityOptions {
   int jobs = default_jobs();
   bool resume = false;
   bool progress = true;
+  Shard shard;  // --shard K/N: only this share of the searches (shard.hpp)
 };
 
 /// One row of stability.csv.

@@ -1,0 +1,98 @@
+/// @file cmd_map.cpp
+/// `clothbench map`: the stability search over a grid of one or two varied scenario keys.
+
+#include <iostream>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "exit_codes.hpp"
+#include "harness/output_lock.hpp"
+#include "harness/stability_map.hpp"
+#include "option_checks.hpp"
+#include "scenario_input.hpp"
+
+namespace clothbench::cli {
+namespace {
+
+struct MapArgs {
+  std::string scenario_path;           // empty: the embedded seed scene
+  std::vector<std::string> overrides;  // --set KEY=VALUE
+  std::vector<std::string> vary;       // --vary KEY=LIST_OR_RANGE
+  bool quiet = false;
+  double max_run_seconds = 0;  // s, 0: no limit
+  MapOptions options;          // out_dir empty: out/<scenario name>-map
+};
+
+int execute_map(MapArgs a) {
+  MapOptions& o = a.options;
+  o.search.progress = !a.quiet;
+  for (const std::string& v : a.vary) o.varied.push_back(parse_varied_key(v));
+  const auto load = [&a](const std::vector<std::string>& point) {
+    std::vector<std::string> overrides = a.overrides;
+    overrides.insert(overrides.end(), point.begin(), point.end());
+    Scenario sc = load_or_seed(a.scenario_path, overrides, a.options.search.engines);
+    sc.max_run_seconds = a.max_run_seconds;
+    return sc;
+  };
+  if (o.out_dir.empty()) o.out_dir = "out/" + load({}).name + "-map";
+  refuse_overwriting_input(a.scenario_path, o.out_dir, "map_scenario.toml");
+  const OutputLock lock(o.out_dir);
+  const std::vector<MapRow> rows = run_map(load, o);
+  std::cout << map_summary(o.varied, rows) << std::flush;
+  if (o.search.progress) std::cerr << "wrote " << o.out_dir << "/map.csv\n";
+  return kExitOk;
+}
+
+}  // namespace
+
+Command add_map_command(CLI::App& app) {
+  auto a = std::make_shared<MapArgs>();
+  StabilityOptions& s = a->options.search;
+  CLI::App* map = app.add_subcommand(
+      "map",
+      "Map the largest stable time step over a family of scenes: the stability search of\n"
+      "`clothbench stability` at every point of a grid of one or two varied scenario keys.\n"
+      "Writes map.csv (the varied values, then the columns of stability.csv), one stability\n"
+      "sweep per point under points/, and map_scenario.toml, which --resume checks.\n"
+      "Examples:\n"
+      "  clothbench map -e custom-rk4 -i symplectic-euler --vary cloth.particles=9,17,33,65 \\\n"
+      "      --set cloth.total_mass=625\n"
+      "  clothbench map SCEN --vary cloth.stiffness.structural=1e2:1e5:log:7 --vary "
+      "cloth.damping=0,10");
+  map->add_option("scenario", a->scenario_path,
+                  "scenario file (TOML); default: the embedded seed scene");
+  map->add_option("--vary", a->vary,
+                  "KEY=V1,V2,... or KEY=A:B:log:N or KEY=A:B:lin:N: a scenario key (as --set\n"
+                  "names it) and its values; once or twice (a two-key grid). cloth.particles=N\n"
+                  "means a square N x N grid (set cloth.total_mass to keep the mass)")
+      ->required()
+      ->allow_extra_args(false);
+  map->add_option("--out,-o", a->options.out_dir,
+                  "output folder (default: out/<scenario name>-map)");
+  map->add_option("--engine,-e", s.engines, "search only this engine (repeatable)")
+      ->allow_extra_args(false);
+  map->add_option("--integrator,-i", s.integrators,
+                  "custom engines: only this integrator (repeatable; default: all six)")
+      ->allow_extra_args(false);
+  map->add_option("--dt-max", s.dt_max, "largest dt tried (s)")
+      ->capture_default_str()
+      ->check(positive_number());
+  map->add_option("--rel-tol", s.rel_tol, "bisection tolerance, as for stability")
+      ->capture_default_str()
+      ->check(positive_number());
+  map->add_option("--jobs,-j", s.jobs, "searches run at once (default: all cores)")
+      ->check(positive_integer());
+  map->add_flag("--resume", s.resume,
+                "keep the points and rows already searched and search only the rest (refused\n"
+                "for another scenario, other --vary values or other options)");
+  map->add_option("--set,-s", a->overrides, "override a scenario key at every point (repeatable)")
+      ->allow_extra_args(false);
+  add_shard_option(map, a->options.shard);
+  add_max_run_seconds(map, a->max_run_seconds);
+  map->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
+  return {map, [a] { return execute_map(*a); }, true};
+}
+
+}  // namespace clothbench::cli
