@@ -50,6 +50,27 @@ double MassSpringCloth::accelerations(const Matrix3X& x, const Matrix3X& v, Matr
   return power;
 }
 
+double MassSpringCloth::step_rk4(double h) {
+  // stage velocities are v, v + h/2 k1, v + h/2 k2, v + h k3 and k_i are the stage
+  // accelerations; m_tmp gathers the weighted sum of the stage velocities
+  const double p1 = accelerations(m_x, m_v, m_k1);
+  m_x1 = m_x + (0.5 * h) * m_v;
+  m_v1 = m_v + (0.5 * h) * m_k1;
+  m_tmp = m_v + 2.0 * m_v1;
+  const double p2 = accelerations(m_x1, m_v1, m_k2);
+  m_x1 = m_x + (0.5 * h) * m_v1;
+  m_v1 = m_v + (0.5 * h) * m_k2;
+  m_tmp += 2.0 * m_v1;
+  const double p3 = accelerations(m_x1, m_v1, m_k3);
+  m_x1 = m_x + h * m_v1;
+  m_v1 = m_v + h * m_k3;
+  m_tmp += m_v1;
+  const double p4 = accelerations(m_x1, m_v1, m_k4);
+  m_x += (h / 6.0) * m_tmp;
+  m_v += (h / 6.0) * (m_k1 + 2.0 * m_k2 + 2.0 * m_k3 + m_k4);
+  return h / 6.0 * (p1 + 2.0 * p2 + 2.0 * p3 + p4);
+}
+
 void MassSpringCloth::step(double h) {
   double dissipated = 0.0;
   switch (m_options.integrator) {
@@ -84,27 +105,9 @@ void MassSpringCloth::step(double h) {
       m_v += h * m_k2;
       break;
     }
-    case Integrator::rk4: {
-      // stage velocities are v, v + h/2 k1, v + h/2 k2, v + h k3 and k_i are the stage
-      // accelerations; m_tmp gathers the weighted sum of the stage velocities
-      const double p1 = accelerations(m_x, m_v, m_k1);
-      m_x1 = m_x + (0.5 * h) * m_v;
-      m_v1 = m_v + (0.5 * h) * m_k1;
-      m_tmp = m_v + 2.0 * m_v1;
-      const double p2 = accelerations(m_x1, m_v1, m_k2);
-      m_x1 = m_x + (0.5 * h) * m_v1;
-      m_v1 = m_v + (0.5 * h) * m_k2;
-      m_tmp += 2.0 * m_v1;
-      const double p3 = accelerations(m_x1, m_v1, m_k3);
-      m_x1 = m_x + h * m_v1;
-      m_v1 = m_v + h * m_k3;
-      m_tmp += m_v1;
-      const double p4 = accelerations(m_x1, m_v1, m_k4);
-      m_x += (h / 6.0) * m_tmp;
-      m_v += (h / 6.0) * (m_k1 + 2.0 * m_k2 + 2.0 * m_k3 + m_k4);
-      dissipated = h / 6.0 * (p1 + 2.0 * p2 + 2.0 * p3 + p4);
+    case Integrator::rk4:
+      dissipated = step_rk4(h);
       break;
-    }
     case Integrator::implicit_euler: {
       step_implicit_euler(h);
       dissipated =

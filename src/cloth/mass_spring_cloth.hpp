@@ -46,6 +46,8 @@ class MassSpringCloth final : public Simulator {
   double accelerations(const Matrix3X& x, const Matrix3X& v, Matrix3X& a);
 
  private:
+  /// One classic Runge-Kutta step; returns the energy the dampers and drag took out (J).
+  double step_rk4(double h);
   void step_implicit_euler(double h);
   void step_imex_euler(double h);
   /// Resolves sphere contacts after a step and books their work in m_contact_work.

@@ -7,7 +7,8 @@ set -u
 clothbench=$1 src=$2 work=$3
 . "$src/tests/cli/expect.sh"
 scen=$src/scenarios/hanging_chain.toml
-pick=(-e custom-symplectic-euler --dt-max 0.05 -q -j 2)
+pick=(-e custom-symplectic-euler -i explicit-euler -i symplectic-euler -i picard-implicit -i midpoint
+  -i rk4 -i implicit-euler --dt-max 0.05 -q -j 2)
 
 # stability: six searches over three shards
 expect 0 "$clothbench" stability "$scen" "${pick[@]}" -o "$work/full"

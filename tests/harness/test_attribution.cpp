@@ -37,7 +37,7 @@ RunResult explained_flag() {
 
 }  // namespace
 
-TEST_CASE("--explain adds the matched scheme of each bullet-deformable mode", "[attribution]") {
+TEST_CASE("run --explain adds the matched scheme of each bullet-deformable mode", "[attribution]") {
   Scenario sc = load_scenario(std::string(CLOTHBENCH_SOURCE_DIR) + "/scenarios/flag.toml");
   std::vector<std::string> all;
   add_matched_engines(sc, all);
