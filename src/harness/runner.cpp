@@ -14,6 +14,7 @@
 #include "harness/csv_writer.hpp"
 #include "harness/engine_factory.hpp"
 #include "harness/scenario_writer.hpp"
+#include "harness/trajectory_files.hpp"
 #include "harness/user_error.hpp"
 
 namespace clothbench {
@@ -374,13 +375,16 @@ void write_run(const RunResult& result, const std::string& dir) {
   toml.write(scenario_to_toml(result.scenario));
   AtomicFile info(dir + "/run.json");
   info.write(run_info_json());
-  // every file is complete: make them all appear
+  std::vector<std::unique_ptr<AtomicFile>> trajectory;
+  write_trajectories(result, dir, trajectory);
+  // every file is complete: make them all appear (the trajectory index last)
   frames.commit();
   div.commit();
   snaps.commit();
   summary.commit();
   toml.commit();
   info.commit();
+  for (auto& f : trajectory) f->commit();
 }
 
 }  // namespace clothbench

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -244,6 +245,23 @@ EngineSpec read_engine(const Reader& r, const toml::table& t, int index) {
   return e;
 }
 
+/// animation_interval: 0 or a whole multiple of frame_interval; left out, 1/30 s rounded to a
+/// whole number of frames (at least one).
+void read_animation_interval(const Reader& r, const toml::table& root, Scenario& s) {
+  const At at{root, ""};
+  const long long frames = std::max(1LL, std::llround(1.0 / 30.0 / s.frame_interval));
+  s.animation_interval =
+      r.number(at, "animation_interval", double(frames) * s.frame_interval, kNonNegative);
+  if (s.animation_interval > 0 && !whole_multiple(s.animation_interval, s.frame_interval)) {
+    const auto [n, key] = blame({{root.get("animation_interval"), "animation_interval"},
+                                 {root.get("frame_interval"), "frame_interval"}});
+    r.fail(n, key,
+           "expected animation_interval to be 0 or a whole multiple of frame_interval = " +
+               toml_double(s.frame_interval) +
+               " s, got animation_interval = " + toml_double(s.animation_interval) + " s");
+  }
+}
+
 /// The top-level timing and naming keys.
 void read_header(const Reader& r, const toml::table& root, Scenario& s) {
   const At at{root, ""};
@@ -279,6 +297,7 @@ void read_header(const Reader& r, const toml::table& root, Scenario& s) {
                toml_double(s.frame_interval) +
                " s, got snapshot_interval = " + toml_double(s.snapshot_interval) + " s");
   }
+  read_animation_interval(r, root, s);
   s.blowup_strain = r.number(at, "blowup_strain", s.blowup_strain, kPositive);
   s.blowup_energy = r.number(at, "blowup_energy", s.blowup_energy, kPositive);
 }
