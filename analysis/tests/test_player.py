@@ -6,6 +6,7 @@ runs made by tests/analysis/player_from_real_runs.sh:
                                 its obj and vtk exports
     CLOTHBENCH_PLAYER_UNSTABLE  the same scene with symplectic Euler at dt = 5e-4 s (blows up);
                                 its report, with --movie when ffmpeg is installed
+    CLOTHBENCH_PLAYER_COMPARE   report of the first compared with the second (--compare)
 
 Without them (plain `unittest discover`) the tests that need them are skipped.
 """
@@ -26,6 +27,7 @@ from analysis.tests import reportcheck as rc
 
 RUN = os.environ.get("CLOTHBENCH_PLAYER_RUN")
 UNSTABLE = os.environ.get("CLOTHBENCH_PLAYER_UNSTABLE")
+COMPARE = os.environ.get("CLOTHBENCH_PLAYER_COMPARE")
 CHROMIUM = os.environ.get("CHROMIUM", "/usr/bin/chromium")
 HAVE_CHROMIUM = os.access(CHROMIUM, os.X_OK)
 WINDOW = (1400, 1100)
@@ -77,7 +79,7 @@ def chromatic(pixels, floor=40):
 
 def console_errors(stderr):
     return [line for line in stderr.splitlines()
-            if "CONSOLE" in line and ("Uncaught" in line or "Error" in line)]
+            if "CONSOLE" in line and ("Uncaught" in line or "Error" in line or "GL_INVALID" in line)]
 
 
 @unittest.skipUnless(RUN, "CLOTHBENCH_PLAYER_RUN not set (ctest sets it)")
@@ -252,6 +254,16 @@ class Player(unittest.TestCase):
         ok = crop(img, views["custom-rk4"], status["canvas"])
         self.assertLess(len(chromatic(grey)), 0.002 * grey.shape[0] * grey.shape[1])
         self.assertGreater(len(chromatic(ok)), 0.02 * ok.shape[0] * ok.shape[1])
+
+    @unittest.skipUnless(COMPARE, "CLOTHBENCH_PLAYER_COMPARE not set")
+    def test_compare_shows_both_folders(self):
+        status, err = player_status(os.path.join(COMPARE, "report.html"), "t=0.6")
+        self.assertEqual(console_errors(err), [])
+        self.assertEqual(status["shown"], ["run: custom-rk4", "run: custom-symplectic-euler",
+                                           "run: bullet-softbody-matched", "unstable: custom-rk4",
+                                           "unstable: custom-symplectic-euler"])
+        self.assertEqual([m["engine"] for m in status["marked"]],
+                         ["unstable: custom-symplectic-euler"])
 
     @unittest.skipUnless(UNSTABLE and shutil.which("ffmpeg"), "needs the unstable run and ffmpeg")
     def test_movie(self):
