@@ -25,7 +25,7 @@ CSS = """
 #player-canvas-box canvas { display: block; cursor: grab; }
 #player-labels { position: absolute; left: 0; top: 0; pointer-events: none; }
 .player-label { position: absolute; font-size: 12px; background: rgba(255,255,255,0.8);
-                padding: 1px 4px; white-space: nowrap; overflow: hidden; }
+                padding: 1px 4px; }
 .player-label.gone { color: #a02020; font-weight: bold; }
 .player-label .sw { display: inline-block; width: 10px; height: 10px; margin-right: 4px; }
 .player-controls { margin: 6px 0; display: flex; flex-wrap: wrap; gap: 8px; align-items: center;
