@@ -273,6 +273,15 @@ class Player(unittest.TestCase):
         with open(path, "rb") as f:
             self.assertEqual(f.read(12)[4:8], b"ftyp")
 
+    def test_movie_without_ffmpeg_says_how_to_get_it(self):
+        env = dict(os.environ, PATH=self.tmp, MPLBACKEND="Agg")
+        r = subprocess.run(["/usr/bin/python3", rc.REPORT, RUN, "--movie", "--out",
+                            os.path.join(self.tmp, "out")], env=env, capture_output=True,
+                           text=True, timeout=600)
+        self.assertEqual(r.returncode, 2, r.stderr)
+        self.assertIn("--movie needs ffmpeg: apt-get install ffmpeg", r.stderr)
+        self.assertFalse(os.path.exists(os.path.join(self.tmp, "out", "report.html")))
+
     def test_without_three_js_the_report_says_why(self):
         env = dict(os.environ, CLOTHBENCH_THREE_JS=os.path.join(self.tmp, "none.js"), MPLBACKEND="Agg")
         out = os.path.join(self.tmp, "out")
