@@ -23,7 +23,7 @@ CSS = """
 #player { margin: 10px 0 18px; }
 #player-canvas-box { position: relative; border: 1px solid #dde; display: inline-block; }
 #player-canvas-box canvas { display: block; cursor: grab; }
-#player-labels { position: absolute; left: 0; top: 0; pointer-events: none; }
+#player-labels { position: absolute; left: 0; top: 0; right: 0; bottom: 0; pointer-events: none; }
 .player-label { position: absolute; font-size: 12px; background: rgba(255,255,255,0.8);
                 padding: 1px 4px; }
 .player-label.gone { color: #a02020; font-weight: bold; }
