@@ -67,8 +67,8 @@ def screenshot(page, fragment, png):
 
 def crop(img, view, canvas):
     x0, y0 = int(canvas["x"] + view["x"]), int(canvas["y"] + view["y"])
-    # leave out the label in the view's top left corner
-    return img[y0 + 24:y0 + int(view["h"]) - 2, x0 + 2:x0 + int(view["w"]) - 2]
+    # leave out the label in the view's top left corner (up to two lines)
+    return img[y0 + 40:y0 + int(view["h"]) - 2, x0 + 2:x0 + int(view["w"]) - 2]
 
 
 def chromatic(pixels, floor=40):
