@@ -92,7 +92,8 @@ def write(folders, outdir, colors):
                 if shape.get("type") == "sphere":
                     c, r = tr.colliders[kc, s], shape["radius"]
                     ax.plot_wireframe(c[0] + r * np.cos(u) * np.sin(v), c[2] + r * np.sin(u) * np.sin(v),
-                                      np.clip(c[1] + r * np.cos(v), lo[1], None), color="0.6", lw=0.3)
+                                      np.clip(c[1] + r * np.cos(v), lo[1], None), color="0.6", lw=0.3,
+                                      zorder=1)
             x = tr.positions[e["name"]]
             ke = int(round(t / tr.interval))
             gone = ke > len(x) - 1
@@ -103,7 +104,7 @@ def write(folders, outdir, colors):
                 color = "0.6" if gone else colors[e["name"]]
                 if min(nu, nv) > 1:
                     ax.plot_surface(g[..., 0], g[..., 2], g[..., 1], color=color, edgecolor="k",
-                                    linewidth=0.1, shade=True)
+                                    linewidth=0.1, shade=True, zorder=2)
                 else:
                     ax.plot(g[..., 0].ravel(), g[..., 2].ravel(), g[..., 1].ravel(), color=color)
             if gone:
