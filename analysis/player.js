@@ -151,6 +151,8 @@
   }
   var heldMat = new THREE.PointsMaterial({ color: 0x202020, size: 6, sizeAttenuation: false });
   var clothMat = new THREE.MeshLambertMaterial({ vertexColors: vc, side: THREE.DoubleSide });
+  // faint grid lines: a flat cloth reads as a cloth; black at low opacity keeps every colour's hue
+  var edgeMat = new THREE.MeshBasicMaterial({ color: 0x000000, wireframe: true, transparent: true, opacity: 0.12 });
   var views = engines.map(function (e) {
     var g = clothGeometry(e);
     var hg = new THREE.BufferGeometry();
@@ -158,6 +160,7 @@
     hg.setAttribute ? hg.setAttribute("position", hp) : hg.addAttribute("position", hp);
     var v = { e: e, geom: g, held: hg, scene: sceneWithLights() };
     v.scene.add(new THREE.Mesh(g, clothMat));
+    v.scene.add(new THREE.Mesh(g, edgeMat));
     v.scene.add(new THREE.Points(hg, heldMat));
     v.colliders = addColliders(v.scene, e.set);
     return v;
@@ -166,6 +169,7 @@
   views.forEach(function (v) {
     var m = new THREE.Mesh(v.geom, clothMat);
     overlay.scene.add(m);
+    m.add(new THREE.Mesh(v.geom, edgeMat));
     var h = new THREE.Points(v.held, heldMat);
     overlay.scene.add(h);
     overlay.meshes.push([m, h]);
