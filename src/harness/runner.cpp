@@ -385,6 +385,7 @@ void write_run(const RunResult& result, const std::string& dir) {
   toml.commit();
   info.commit();
   for (auto& f : trajectory) f->commit();
+  remove_stale_trajectories(result, dir);
 }
 
 }  // namespace clothbench

@@ -419,9 +419,24 @@ TEST_CASE("a run's trajectory holds every engine's positions every animation_int
   CHECK(slurp(t / "explicit-big-step.npy").size() < slurp(t / "rk4.npy").size());
 }
 
-TEST_CASE("animation_interval = 0 writes no trajectory", "[runner]") {
+TEST_CASE("animation_interval = 0 writes no trajectory and a rerun leaves none stale",
+          "[runner]") {
   const clothbench::test::TempDir scratch("runner-no-trajectory");
+  const fs::path t = scratch.path / "trajectory";
   write_run(run_small({"animation_interval=0"}), scratch.path.string());
   CHECK(fs::exists(scratch.path / "frames.csv"));
-  CHECK_FALSE(fs::exists(scratch.path / "trajectory"));
+  CHECK_FALSE(fs::exists(t));
+  // every engine, then only the reference and one other: the others' files go
+  write_run(run_small(), scratch.path.string());
+  CHECK(fs::exists(t / "symplectic.npy"));
+  RunOptions o;
+  o.progress = false;
+  o.engines = {"rk4-copy"};
+  write_run(run_scenario(parse_scenario(kSmallScenario, "small.toml"), o), scratch.path.string());
+  CHECK(fs::exists(t / "rk4.npy"));
+  CHECK(fs::exists(t / "rk4-copy.npy"));
+  CHECK_FALSE(fs::exists(t / "symplectic.npy"));
+  // and a run without trajectories removes the folder
+  write_run(run_small({"animation_interval=0"}), scratch.path.string());
+  CHECK_FALSE(fs::exists(t));
 }
