@@ -11,8 +11,9 @@ STEM = "drape"
 TITLE = "Drape shape"
 CAPTION = ("The cloth at chosen snapshot times (columns) for every engine (rows), drawn with the "
            "same view and the same scale in every panel, coloured by each particle's distance to "
-           "the reference engine at the same time (mm, one colour bar for every panel; the "
-           "reference itself is uniformly 0); the sphere is drawn where the scenario "
+           "the reference engine at the same time (mm, one colour bar for every panel up to the "
+           "95th percentile of the distances, larger ones in its top colour; the reference "
+           "itself is uniformly 0); the sphere is drawn where the scenario "
            "has one, and a 1 × N grid (a chain) as its particles joined by a line. A panel stays "
            "empty where the engine had already blown up.")
 
@@ -144,15 +145,18 @@ def distance_mm(f, engine, t):
 
 
 def distance_norm(pairs, columns):
-    """One colour scale (mm) for every panel: 0 to the largest distance of a stable engine."""
-    hi = 0.0
+    """One colour scale (mm) for every panel: 0 to the 95th percentile of the distances of the
+    stable engines' panels, so one engine's start-up transient does not take the whole scale
+    (larger distances get the top colour; the colour bar's arrow says so)."""
+    values = []
     for f, e in pairs:
         for c in columns:
             t = cell_time(f, e, c, None)
             d = distance_mm(f, e, t) if t is not None else None
             blown = f.blowup(e) is not None and t is not None and t >= (f.blowup(e) or 0) - 1e-12
-            if d is not None and not blown:
-                hi = max(hi, float(d.max()))
+            if d is not None and not blown and np.any(d > 0):
+                values.append(d.ravel())
+    hi = float(np.percentile(np.concatenate(values), 95)) if values else 0.0
     return plt.Normalize(0.0, hi if hi > 0 else 1.0)
 
 
@@ -224,7 +228,8 @@ def draw(folders, ctx):
             ax.set_title(f"{name}\nt = {style.fmt(t)} s{state}", fontsize=style.FONT - 1)
     if axes_3d:
         bar = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes_3d,
-                           shrink=min(0.6, 2.5 / max(1, nrows)), pad=0.02, aspect=30)
+                           shrink=min(0.6, 2.5 / max(1, nrows)), pad=0.02, aspect=30,
+                           extend="max")
         bar.set_label("distance to the reference engine at the same time (mm)")
     style.title(fig, TITLE, folders, compare="rows")
     return style.save(fig, ctx.outdir, STEM, ctx.svg)
