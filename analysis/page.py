@@ -1,10 +1,12 @@
-"""report.html: one self-contained page (inline CSS, images as base64 data URIs, no script)."""
+"""report.html: one self-contained page (inline CSS, images as base64 data URIs; the only
+script is the 3D player's, inlined with three.js, see player.py)."""
 
 import base64
 import html
 import math
 import os
 
+from .player import CSS as PLAYER_CSS
 from .verdicts import num
 
 # summary.csv column -> header shown (with unit)
@@ -140,7 +142,7 @@ def _run_info(f):
     return " · ".join(parts)
 
 
-def build(folders, figures, verdict_groups, notes, params):
+def build(folders, figures, verdict_groups, notes, params, player_html=""):
     """The page as a string.
 
     folders         one or two Folder objects
@@ -149,6 +151,7 @@ def build(folders, figures, verdict_groups, notes, params):
     verdict_groups  list of (heading, [(kind, text)]) from verdicts
     notes           list of strings (files missing, plots skipped)
     params          list of (folder label, [(name, text)]) key scenario parameters
+    player_html     the 3D player's section (player.section), or ""
     """
     names = []
     for f in folders:
@@ -157,7 +160,7 @@ def build(folders, figures, verdict_groups, notes, params):
     title = f"clothbench report — {' / '.join(names)}"
     out = ["<!DOCTYPE html>", '<html lang="en"><head><meta charset="utf-8">',
            '<meta name="viewport" content="width=device-width, initial-scale=1">',
-           f"<title>{E(title)}</title><style>{CSS}</style></head><body><main>",
+           f"<title>{E(title)}</title><style>{CSS}{PLAYER_CSS}</style></head><body><main>",
            f"<h1>{E(title)}</h1>"]
     for f in folders:
         label = f"{f.label}: " if len(folders) > 1 else ""
@@ -171,6 +174,10 @@ def build(folders, figures, verdict_groups, notes, params):
     if len(folders) > 1:
         out.append(f'<p class="desc">Comparison: <b>{E(folders[0].label)}</b> is drawn with solid '
                    f'lines, <b>{E(folders[1].label)}</b> with dashed lines.</p>')
+
+    # the cloths moving come first: people look before they read
+    if player_html:
+        out.append(player_html)
 
     # verdicts
     out.append("<h2>Verdicts</h2>")

@@ -2,11 +2,12 @@
 """Turn a clothbench output folder into plots and one self-contained report.html.
 
 usage: report.py DIR [--compare DIR2] [--labels A,B] [--out OUTDIR] [--svg]
-                 [--snapshot-times T1,T2,...] [--tolerance E] [--debug]
+                 [--snapshot-times T1,T2,...] [--tolerance E] [--movie] [--debug]
 
 DIR is the output folder of `clothbench run` and/or a sweep (`clothbench stability`,
 `clothbench accuracy`); the report draws every plot the folder has data for. With --compare the
-same plots show both folders: DIR with solid lines, DIR2 dashed.
+same plots show both folders: DIR with solid lines, DIR2 dashed, and the 3D player shows both
+folders' engines side by side. --movie also writes movie.mp4 of the player's grid view (ffmpeg).
 
 Exit codes: 0 report written; 2 bad input (missing folder, no CSV, missing column, malformed
 value: one line on stderr naming the file); 1 internal error (one line; --debug or
@@ -50,6 +51,8 @@ def parse_args(argv):
     p.add_argument("--tolerance", metavar="E", type=float,
                    help="error tolerance (m) drawn on the work-precision plot (default: from "
                         "recommendation.csv)")
+    p.add_argument("--movie", action="store_true",
+                   help="also write movie.mp4: every engine's cloth over time (needs ffmpeg)")
     p.add_argument("--debug", action="store_true",
                    help=f"print the traceback of an internal error (or set {DEBUG_ENV}=1)")
     return p.parse_args(argv)
@@ -120,8 +123,13 @@ def run(argv):
     if not os.access(outdir, os.W_OK):
         raise ReportError(f"{outdir}: output folder is not writable")
 
+    if args.movie:
+        from analysis import movie
+        if movie.ffmpeg_missing():
+            raise ReportError(movie.ffmpeg_missing())
+
     # plotting starts only once every input has been read and checked
-    from analysis import page, verdicts
+    from analysis import page, player, verdicts
     from analysis.plots import ALL, Context, style
 
     engines = []
@@ -151,13 +159,17 @@ def run(argv):
     if len(folders) == 2:
         groups = verdicts.compare_verdicts(*folders) + groups
     params = [(f.label, style.scenario_params(f)) for f in folders]
-    text = page.build(folders, figures, groups, notes_for(folders), params)
+    text = page.build(folders, figures, groups, notes_for(folders), params,
+                      player.section(folders, ctx.colors))
 
     target = os.path.join(outdir, "report.html")
     tmp = target + ".tmp"
     with open(tmp, "w", encoding="utf-8") as fh:
         fh.write(text)
     os.replace(tmp, target)
+    if args.movie:
+        from analysis import movie
+        print(f"wrote {movie.write(folders, outdir, ctx.colors)}")
     drawn = [os.path.basename(p) for _, _, _, p in figures if p]
     left_out = [t for _, t, _, p in figures if not p]
     print(f"wrote {target} ({len(drawn)} plots: {', '.join(drawn)}"

@@ -52,6 +52,14 @@ def _sorted_rows(table, engine):
 
 # --- one run --------------------------------------------------------------------------------
 
+def _force_evals_text(n, kind):
+    """How many force evaluations a run made, as the cost line says it: Bullet engines do not
+    count theirs (their summary holds 0), so theirs are "not counted", never "0"."""
+    if kind.startswith("bullet") or (_finite(n) and n == 0 and kind != "custom"):
+        return " (force evaluations not counted)"
+    return f" ({int(n)} force evaluations)" if _finite(n) else ""
+
+
 def run_verdicts(f):
     """Verdicts of one run folder (any of frames, divergence, summary, snapshots)."""
     groups = []
@@ -148,12 +156,12 @@ def run_verdicts(f):
             if len(values) > 1:
                 text += f" (spread {max(values) - min(values):.3f})"
             lines.append(("info", text + "."))
-        cost = [(r["engine"], r["us_per_step"], r["force_evals"])
+        cost = [(r["engine"], r["us_per_step"], r["force_evals"], str(r.get("kind", "")))
                 for r in f.table("summary.csv").rows() if _finite(r["us_per_step"])]
         if cost:
             lines.append(("info", "Cost per step: " + ", ".join(
-                f"{e} {num(us)} µs" + (f" ({int(n)} force evaluations)" if _finite(n) else "")
-                for e, us, n in cost) + "."))
+                f"{e} {num(us)} µs" + _force_evals_text(n, kind)
+                for e, us, n, kind in cost) + "."))
     if lines:
         groups.append(("Drape and cost", lines))
     from .attribution import attribution_verdicts

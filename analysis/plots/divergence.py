@@ -27,6 +27,14 @@ def available(folder):
     return folder.has("divergence.csv")
 
 
+def symlog_threshold(peaks, span=20.0):
+    """Linear range (J) of a symmetric log axis on which every engine's curve reads, given each
+    engine's largest |difference|; None when the peaks span less than `span` (linear is fine)."""
+    if len(peaks) < 2 or max(peaks) / min(peaks) <= span:
+        return None
+    return min(peaks) / 4
+
+
 def draw(folders, ctx):
     fig = plt.figure(figsize=(12, 8.2), layout="constrained")
     grid = fig.add_gridspec(2, 6)
@@ -35,7 +43,7 @@ def draw(folders, ctx):
             fig.add_subplot(grid[1, 3:6])]
     refs = []
     for ax, (col, name, unit) in zip(axes, PANELS):
-        values = []
+        values, peaks = [], []
         for k, f in enumerate(folders):
             if not f.has("divergence.csv"):
                 continue
@@ -50,6 +58,9 @@ def draw(folders, ctx):
                 ax.plot(rows["t"], rows[col], color=ctx.colors[engine], ls=style.RUN_STYLES[k],
                         lw=1.5, label=label)
                 values.extend(rows[col])
+                peak = style.finite(np.abs(rows[col]))
+                if len(peak) and peak.max() > 0:
+                    peaks.append(float(peak.max()))
                 mark_blowup(ax, f, engine, style.RUN_STYLES[k], label=(col == "rms_distance"),
                             name=True)
                 for ref in rows["reference"]:
@@ -59,6 +70,12 @@ def draw(folders, ctx):
             ax.set_yscale("log", nonpositive="mask")
         else:
             ax.axhline(0.0, color="0.5", lw=0.8)
+        if col == "energy_difference":
+            linthresh = symlog_threshold(peaks)
+            if linthresh:
+                # one engine's peak would flatten the others to zero on a linear axis
+                ax.set_yscale("symlog", linthresh=linthresh)
+                name = f"{name} (symmetric log axis, linear within ±{style.fmt(linthresh)} J)"
         if col == "shadow_area_difference" and len(style.finite(values)) and \
                 not np.any(style.finite(values)):
             # a chain, or a cloth edge-on from above, casts no shadow in any engine

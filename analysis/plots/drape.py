@@ -10,7 +10,10 @@ from . import style
 STEM = "drape"
 TITLE = "Drape shape"
 CAPTION = ("The cloth at chosen snapshot times (columns) for every engine (rows), drawn with the "
-           "same view and the same scale in every panel; the sphere is drawn where the scenario "
+           "same view and the same scale in every panel, coloured by each particle's distance to "
+           "the reference engine at the same time (mm, one colour bar for every panel up to the "
+           "95th percentile of the distances, larger ones in its top colour; the reference "
+           "itself is uniformly 0); the sphere is drawn where the scenario "
            "has one, and a 1 × N grid (a chain) as its particles joined by a line. A panel stays "
            "empty where the engine had already blown up.")
 
@@ -128,6 +131,35 @@ def cell_time(f, engine, column, previous):
     return None
 
 
+def distance_mm(f, engine, t):
+    """Per-particle distance (mm, nu by nv) from the folder's reference engine at snapshot time
+    t, or None when the reference has no finite snapshot there."""
+    ref = f.reference()
+    if not ref or ref not in f.table("snapshots.csv").unique("engine"):
+        return None
+    if not any(abs(s - t) <= 1e-9 * max(1.0, abs(t)) for s in f.snapshot_times(ref)):
+        return None
+    a, b = f.snapshot(engine, t), f.snapshot(ref, t)
+    d = 1000 * np.linalg.norm(a - b, axis=-1)
+    return d if np.all(np.isfinite(d)) else None
+
+
+def distance_norm(pairs, columns):
+    """One colour scale (mm) for every panel: 0 to the 95th percentile of the distances of the
+    stable engines' panels, so one engine's start-up transient does not take the whole scale
+    (larger distances get the top colour; the colour bar's arrow says so)."""
+    values = []
+    for f, e in pairs:
+        for c in columns:
+            t = cell_time(f, e, c, None)
+            d = distance_mm(f, e, t) if t is not None else None
+            blown = f.blowup(e) is not None and t is not None and t >= (f.blowup(e) or 0) - 1e-12
+            if d is not None and not blown and np.any(d > 0):
+                values.append(d.ravel())
+    hi = float(np.percentile(np.concatenate(values), 95)) if values else 0.0
+    return plt.Normalize(0.0, hi if hi > 0 else 1.0)
+
+
 def draw(folders, ctx):
     pairs = rows_of(folders)
     columns = column_times(pairs, ctx.snapshot_times)
@@ -135,6 +167,8 @@ def draw(folders, ctx):
     nrows = len(pairs)
     times_of = {(f.label, e): [t for t in f.snapshot_times(e)] for f, e in pairs}
     lo, hi = view_box(folders, pairs, times_of)
+    norm, cmap = distance_norm(pairs, columns), plt.get_cmap("viridis")
+    axes_3d = []
     # a tall view box (a hanging chain) gets taller rows, so titles and axes labels do not meet
     tall = (hi[1] - lo[1]) / max(hi[0] - lo[0], hi[2] - lo[2])
     fig = plt.figure(figsize=(12, 1.3 + 2.8 * min(max(tall, 1.0), 1.6) * nrows),
@@ -145,6 +179,7 @@ def draw(folders, ctx):
         for c, column in enumerate(columns):
             ax = fig.add_subplot(nrows, ncols, r * ncols + c + 1, projection="3d",
                                  computed_zorder=False)
+            axes_3d.append(ax)
             ax.view_init(elev=ELEV, azim=AZIM)
             ax.set_xlim(lo[0], hi[0])
             ax.set_ylim(lo[2], hi[2])
@@ -177,12 +212,24 @@ def draw(folders, ctx):
                         color=ctx.colors[engine], lw=2, marker="o", ms=3.5, mec="black",
                         mew=0.4)
             elif ok:
-                ax.plot_surface(g[:, :, 0], g[:, :, 2], g[:, :, 1], color=ctx.colors[engine],
-                                edgecolor="black", linewidth=0.25, alpha=0.9, shade=True)
+                d = distance_mm(f, engine, t) if not state else None
+                if d is None:
+                    ax.plot_surface(g[:, :, 0], g[:, :, 2], g[:, :, 1],
+                                    color=ctx.colors[engine] if not state else "0.6",
+                                    edgecolor="black", linewidth=0.25, alpha=0.9, shade=True)
+                else:
+                    # unshaded, so the colour is the colour bar's
+                    ax.plot_surface(g[:, :, 0], g[:, :, 2], g[:, :, 1], facecolors=cmap(norm(d)),
+                                    edgecolor="black", linewidth=0.15, shade=False)
             else:
                 ax.text2D(0.5, 0.5, "outside the view\n(non-finite or blown up)", ha="center",
                           va="center", transform=ax.transAxes, color="tab:red",
                           fontsize=style.FONT - 1)
             ax.set_title(f"{name}\nt = {style.fmt(t)} s{state}", fontsize=style.FONT - 1)
+    if axes_3d:
+        bar = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes_3d,
+                           shrink=min(0.6, 2.5 / max(1, nrows)), pad=0.02, aspect=30,
+                           extend="max")
+        bar.set_label("distance to the reference engine at the same time (mm)")
     style.title(fig, TITLE, folders, compare="rows")
     return style.save(fig, ctx.outdir, STEM, ctx.svg)

@@ -1,5 +1,7 @@
 """Energy over time per engine: kinetic, potentials and dissipated energy, and the energy error."""
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -86,6 +88,16 @@ def draw(folders, ctx):
                 mark_blowup(ax, f, engine, ls, label=(ax is ax_e))
         ax_e.set_title(f"{engine}: energies")
         ax_e.set_ylabel("energy (J)")
+        gated = [f.energy_gated(engine) for f in folders
+                 if f.has("frames.csv") and engine in f.table("frames.csv").unique("engine")]
+        if gated and not any(g for g, _ in gated):
+            # zero by construction: say why on the plot, not only in the page
+            why = next((n for _, n in gated if n), "0 by construction")
+            ax_err.text(0.5, 0.7, textwrap.fill("not a measure of the time scheme: the energy "
+                                                "error is " + why, 48),
+                        ha="center", va="center", transform=ax_err.transAxes,
+                        fontsize=style.FONT - 1, color="0.25",
+                        bbox={"boxstyle": "round", "fc": "white", "ec": "0.7"})
         ax_err.set_title(f"{engine}: energy error")
         ax_err.set_ylabel("energy error (J)")
         ax_err.axhline(0.0, color="0.5", lw=0.8)

@@ -90,8 +90,9 @@ def html_problems(text, n_images):
     external = re.findall(r'(?:src|href)="(?!data:|#)([^"]*)"', text)
     if external:
         problems.append(f"refers to outside files: {external[:3]}")
-    if re.search(r"<script|<link", text, re.I):
-        problems.append("has a script or a stylesheet link")
+    # the 3D player's scripts are inline; nothing may be loaded from elsewhere
+    if re.search(r"<script[^>]*\bsrc\s*=|<link", text, re.I):
+        problems.append("loads a script or a stylesheet from a link")
     for needed in ("<h2>Verdicts</h2>", "</html>"):
         if needed not in text:
             problems.append(f"lacks {needed}")

@@ -1,6 +1,7 @@
 /// @file cmd_report.cpp
 /// `clothbench report`: analysis/report.py on an output folder, with Debian's python3 (for its
-/// matplotlib); everything after `report` goes to the script.
+/// matplotlib); everything after `report` goes to the script. Also the script runner that
+/// `clothbench export` shares.
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -17,11 +18,9 @@
 #include "harness/user_error.hpp"
 
 namespace clothbench::cli {
-namespace {
 
-// runs report.py with args and returns its exit status (128 + the signal that ended it)
-int execute_report(const std::vector<std::string>& args) {
-  const std::string script = std::string(CLOTHBENCH_ANALYSIS_DIR) + "/report.py";
+int run_analysis_script(const std::string& name, const std::vector<std::string>& args) {
+  const std::string script = std::string(CLOTHBENCH_ANALYSIS_DIR) + "/" + name;
   const char* python =
       std::getenv("CLOTHBENCH_PYTHON") ? std::getenv("CLOTHBENCH_PYTHON") : "/usr/bin/python3";
   std::vector<std::string> argv_s = {python, script};
@@ -43,19 +42,17 @@ int execute_report(const std::vector<std::string>& args) {
   return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
 }
 
-}  // namespace
-
 Command add_report_command(CLI::App& app) {
   CLI::App* report = app.add_subcommand(
       "report",
       "Plots and a self-contained report.html from an output folder (runs analysis/report.py\n"
       "with /usr/bin/python3). Everything after `report` goes to the script: DIR\n"
       "[--compare DIR2] [--labels A,B] [--out OUTDIR] [--svg] [--snapshot-times LIST]\n"
-      "[--tolerance E]; `clothbench report --help` shows the script's own help.");
+      "[--tolerance E] [--movie]; `clothbench report --help` shows the script's own help.");
   report->set_help_flag();  // --help goes to the script, whose help lists its options
   report->allow_extras();
   report->prefix_command();
-  return {report, [report] { return execute_report(report->remaining()); }};
+  return {report, [report] { return run_analysis_script("report.py", report->remaining()); }};
 }
 
 }  // namespace clothbench::cli

@@ -5,6 +5,8 @@
 
 #include <CLI/CLI.hpp>
 #include <functional>
+#include <string>
+#include <vector>
 
 namespace clothbench::cli {
 
@@ -29,6 +31,11 @@ Command add_accuracy_command(CLI::App& app);
 Command add_check_command(CLI::App& app);
 /// `clothbench report`: analysis/report.py on an output folder.
 Command add_report_command(CLI::App& app);
+/// `clothbench export`: analysis/export.py (OBJ and VTK sequences of a run's trajectories).
+Command add_export_command(CLI::App& app);
+/// Runs analysis/<name> with Debian's python3 (CLOTHBENCH_PYTHON overrides) and args; returns
+/// its exit status (128 + the signal that ended it); a python that cannot start is exit 2.
+int run_analysis_script(const std::string& name, const std::vector<std::string>& args);
 /// `clothbench list`: the shipped scenarios, engine kinds and integrators.
 Command add_list_command(CLI::App& app);
 

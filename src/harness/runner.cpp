@@ -15,6 +15,7 @@
 #include "harness/engine_factory.hpp"
 #include "harness/scenario_writer.hpp"
 #include "harness/staged_folder.hpp"
+#include "harness/trajectory_files.hpp"
 #include "harness/user_error.hpp"
 
 namespace clothbench {
@@ -379,13 +380,17 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   toml.write(scenario_to_toml(result.scenario));
   AtomicFile info(dir + "run.json");
   info.write(run_info_json());
-  // every file is complete: make them all appear
+  std::vector<std::unique_ptr<AtomicFile>> trajectory;
+  write_trajectories(result, dir, trajectory);
+  // every file is complete: make them all appear (the trajectory index last)
   frames.commit();
   div.commit();
   snaps.commit();
   summary.commit();
   toml.commit();
   info.commit();
+  for (auto& f : trajectory) f->commit();
+  remove_stale_trajectories(result, dir);
 }
 
 }  // namespace
@@ -393,6 +398,7 @@ void write_run_files(const RunResult& result, const std::string& dir) {
 void write_run(const RunResult& result, const std::string& out) {
   make_directories(out);
   StagedFolder staged(out);
+  staged.owns("trajectory");  // the new run's, or none: never an older run's beside new CSVs
   try {
     write_run_files(result, staged.path());
   } catch (const UserError& e) {

@@ -10,6 +10,7 @@ namespace clothbench {
 
 const Keys kTopKeys = {
     "name",          "description", "duration", "frame_interval", "snapshot_interval",
+    "animation_interval",
     "blowup_strain", "blowup_energy", "reference", "gravity", "cloth", "constraint",
     "sphere",        "engine"};
 const Keys kClothKeys = {"particles",  "size",      "center",  "plane",   "particle_mass",

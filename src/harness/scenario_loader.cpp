@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -247,6 +248,20 @@ EngineSpec read_engine(const Reader& r, const toml::table& t, int index) {
   return e;
 }
 
+/// Reads an optional interval key (s) that must be 0 or a whole multiple of frame_interval.
+double read_frame_multiple(const Reader& r, const toml::table& root, const std::string& key,
+                           double def, double frame_interval) {
+  const double v = r.number(At{root, ""}, key, def, kNonNegative);
+  if (v > 0 && !whole_multiple(v, frame_interval)) {
+    const auto [n, blamed] =
+        blame({{root.get(key), key}, {root.get("frame_interval"), "frame_interval"}});
+    r.fail(n, blamed,
+           "expected " + key + " to be 0 or a whole multiple of frame_interval = " +
+               toml_double(frame_interval) + " s, got " + key + " = " + toml_double(v) + " s");
+  }
+  return v;
+}
+
 /// The top-level timing and naming keys.
 void read_header(const Reader& r, const toml::table& root, Scenario& s) {
   const At at{root, ""};
@@ -273,15 +288,12 @@ void read_header(const Reader& r, const toml::table& root, Scenario& s) {
            "expected at most " + cloth::shortest_decimal(kMaxFrames) + " frames, got duration / frame_interval = " +
                cloth::shortest_decimal(s.duration / s.frame_interval));
   }
-  s.snapshot_interval = r.number(at, "snapshot_interval", s.snapshot_interval, kNonNegative);
-  if (s.snapshot_interval > 0 && !whole_multiple(s.snapshot_interval, s.frame_interval)) {
-    const auto [n, key] = blame({{root.get("snapshot_interval"), "snapshot_interval"},
-                                 {root.get("frame_interval"), "frame_interval"}});
-    r.fail(n, key,
-           "expected snapshot_interval to be 0 or a whole multiple of frame_interval = " +
-               toml_double(s.frame_interval) +
-               " s, got snapshot_interval = " + toml_double(s.snapshot_interval) + " s");
-  }
+  s.snapshot_interval =
+      read_frame_multiple(r, root, "snapshot_interval", s.snapshot_interval, s.frame_interval);
+  // left out: 1/30 s rounded to a whole number of frames (at least one)
+  const long long frames = std::max(1LL, std::llround(1.0 / 30.0 / s.frame_interval));
+  s.animation_interval = read_frame_multiple(r, root, "animation_interval",
+                                             double(frames) * s.frame_interval, s.frame_interval);
   s.blowup_strain = r.number(at, "blowup_strain", s.blowup_strain, kPositive);
   s.blowup_energy = r.number(at, "blowup_energy", s.blowup_energy, kPositive);
 }

@@ -44,6 +44,7 @@ std::string scenario_to_toml(const Scenario& s) {
     << "duration = " << d(s.duration) << "  # s\n"
     << "frame_interval = " << d(s.frame_interval) << "  # s\n"
     << "snapshot_interval = " << d(s.snapshot_interval) << "  # s\n"
+    << "animation_interval = " << d(s.animation_interval) << "  # s\n"
     << "blowup_strain = " << d(s.blowup_strain) << "\n"
     << "blowup_energy = " << d(s.blowup_energy) << "\n"
     << "reference = "

@@ -104,6 +104,8 @@ std::string stability_rerun(const Scenario& sc, const EngineSpec& e) {
   if (horizon != sc.duration) s += " --set duration=" + format_double(horizon);
   if (sc.snapshot_interval > 0 && !whole_multiple(sc.snapshot_interval, horizon))
     s += " --set snapshot_interval=0";
+  if (sc.animation_interval > 0 && !whole_multiple(sc.animation_interval, horizon))
+    s += " --set animation_interval=0";
   return s;
 }
 

@@ -4,6 +4,7 @@
 #include <stdio.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -100,6 +101,8 @@ std::string StagedFolder::in_folder(std::string message) const {
 void StagedFolder::commit() {
   const fs::path dir(m_dir), stage(m_stage);
   if (m_inside) {
+    std::error_code ec;
+    for (const std::string& name : m_owned) fs::remove_all(dir / name, ec);
     move_in_one_by_one(stage, dir);
   } else {
     swap_in(dir, stage);
@@ -110,7 +113,11 @@ void StagedFolder::commit() {
 }
 
 void StagedFolder::swap_in(const fs::path& dir, const fs::path& stage) {
-  for (const auto& e : fs::directory_iterator(dir)) carry_over(e.path(), stage);
+  for (const auto& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (std::find(m_owned.begin(), m_owned.end(), name) == m_owned.end())
+      carry_over(e.path(), stage);
+  }
   if (::renameat2(AT_FDCWD, stage.c_str(), AT_FDCWD, dir.c_str(), RENAME_EXCHANGE) != 0) {
     if (errno != EINVAL && errno != ENOSYS)
       throw UserError("cannot put the new run in place of " + dir.string() + ": " +

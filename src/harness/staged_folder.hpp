@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace clothbench {
 
@@ -25,6 +26,10 @@ class StagedFolder {
   /// Where to write: the sibling folder, with a trailing '/'.
   std::string path() const { return m_stage + "/"; }
 
+  /// Makes the old folder's entry name go with the old run instead of being carried over: an
+  /// output the run owns whole (written or not this time), such as its trajectory folder.
+  void owns(const std::string& name) { m_owned.push_back(name); }
+
   /// A message about a staged file, naming the file where it will be in the folder instead
   /// (a user knows the folder, not the stage).
   std::string in_folder(std::string message) const;
@@ -40,7 +45,8 @@ class StagedFolder {
   void swap_in(const std::filesystem::path& dir, const std::filesystem::path& stage);
 
   std::string m_dir, m_stage;
-  bool m_inside = false;  // the stage is inside the folder
+  std::vector<std::string> m_owned;  // entries of the folder the run replaces whole
+  bool m_inside = false;             // the stage is inside the folder
   bool m_committed = false;
 };
 

@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -418,4 +419,59 @@ TEST_CASE("a run's files replace an older run's all at once, keeping the folder'
   CHECK(slurp(dir / "plots" / "a.png") == "png\n");
   for (const auto& e : fs::directory_iterator(scratch.path))
     CHECK(e.path().filename().string().find("clothbench-new") == std::string::npos);
+}
+
+TEST_CASE("a run's trajectory holds every engine's positions every animation_interval",
+          "[runner]") {
+  const clothbench::test::TempDir scratch("runner-trajectory");
+  const fs::path& dir = scratch.path;
+  const RunResult r = run_small({"animation_interval=0.05"});
+  write_run(r, dir.string());
+  const fs::path t = dir / "trajectory";
+  const std::string index = slurp(t / "trajectory.json");
+  CHECK(index.find("\"interval\": 0.05,") != std::string::npos);
+  CHECK(index.find("\"frames\": 7,") != std::string::npos);  // 0, 0.05, ..., 0.3 s
+  for (const EngineRun& run : r.runs) {
+    const std::string npy = slurp(t / (run.spec.name + ".npy"));
+    REQUIRE(npy.size() > 10);
+    CHECK(npy.compare(0, 6, "\x93NUMPY") == 0);
+    const size_t header = 10 + static_cast<unsigned char>(npy[8]) +
+                          256 * static_cast<unsigned char>(npy[9]);
+    CHECK(header % 64 == 0);
+    // frames before a blow-up only, each 6 x 5 particles by 3 float32
+    size_t frames = 0;
+    for (size_t k = 0; k < run.frames.size() && run.frames[k].stable; k += 5) ++frames;
+    CHECK(npy.size() == header + frames * 30 * 3 * sizeof(float));
+    CHECK(npy.find("'shape': (" + std::to_string(frames) + ", 30, 3,)") != std::string::npos);
+    if (frames < 2) continue;
+    // frame 1 is the logged frame at t = 0.05 s, as float32
+    float x = 0;
+    std::memcpy(&x, npy.data() + header + 30 * 3 * sizeof(float) + 7 * 3 * sizeof(float) + 4,
+                sizeof x);
+    CHECK(x == static_cast<float>(run.positions[5](1, 7)));
+  }
+  // explicit-big-step blows up, so its trajectory stops early; the others run to the end
+  CHECK(slurp(t / "explicit-big-step.npy").size() < slurp(t / "rk4.npy").size());
+}
+
+TEST_CASE("animation_interval = 0 writes no trajectory and a rerun leaves none stale",
+          "[runner]") {
+  const clothbench::test::TempDir scratch("runner-no-trajectory");
+  const fs::path t = scratch.path / "trajectory";
+  write_run(run_small({"animation_interval=0"}), scratch.path.string());
+  CHECK(fs::exists(scratch.path / "frames.csv"));
+  CHECK_FALSE(fs::exists(t));
+  // every engine, then only the reference and one other: the others' files go
+  write_run(run_small(), scratch.path.string());
+  CHECK(fs::exists(t / "symplectic.npy"));
+  RunOptions o;
+  o.progress = false;
+  o.engines = {"rk4-copy"};
+  write_run(run_scenario(parse_scenario(kSmallScenario, "small.toml"), o), scratch.path.string());
+  CHECK(fs::exists(t / "rk4.npy"));
+  CHECK(fs::exists(t / "rk4-copy.npy"));
+  CHECK_FALSE(fs::exists(t / "symplectic.npy"));
+  // and a run without trajectories removes the folder
+  write_run(run_small({"animation_interval=0"}), scratch.path.string());
+  CHECK_FALSE(fs::exists(t));
 }

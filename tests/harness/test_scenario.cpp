@@ -95,6 +95,7 @@ void check_same_scenario(const Scenario& a, const Scenario& b) {
   CHECK(a.duration == b.duration);
   CHECK(a.frame_interval == b.frame_interval);
   CHECK(a.snapshot_interval == b.snapshot_interval);
+  CHECK(a.animation_interval == b.animation_interval);
   CHECK(a.blowup_strain == b.blowup_strain);
   CHECK(a.blowup_energy == b.blowup_energy);
   CHECK(a.reference == b.reference);
@@ -311,6 +312,7 @@ TEST_CASE("the seed scenario is the engine's seed scene", "[scenario]") {
   CHECK(s.duration == 3.0);
   CHECK(s.frame_interval == 0.01);
   CHECK(s.snapshot_interval == 0.5);
+  CHECK(s.animation_interval == Approx(0.03));  // 1/30 s rounded to 3 frames
   CHECK(s.reference == "custom-rk4");
   CHECK(s.reference_index() == 0);
   std::vector<std::string> names;
