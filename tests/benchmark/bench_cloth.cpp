@@ -53,7 +53,9 @@ void BM_step(benchmark::State& state, Integrator integrator) {
   SolverOptions o;
   o.integrator = integrator;
   MassSpringCloth cloth(seed_scene(), o);
-  const double h = integrator == Integrator::implicit_euler ? 1.0 / 60.0 : 1e-4;
+  const bool large_steps = integrator == Integrator::implicit_euler ||
+                           integrator == Integrator::xpbd || integrator == Integrator::projective;
+  const double h = large_steps ? 1.0 / 60.0 : 1e-4;
   for (auto _ : state) cloth.step(h);
   const Counters c = cloth.counters();
   state.counters["h"] = h;
@@ -84,10 +86,21 @@ void BM_symplectic(benchmark::State& state) {
 }
 BENCHMARK(BM_symplectic)->Arg(25)->Arg(64)->Arg(128)->Unit(benchmark::kMicrosecond);
 
+// xpbd (10 sweeps) and projective (10 iterations, prefactored) at 1/30 s on the seed scene
+void BM_large_step(benchmark::State& state, Integrator integrator) {
+  SolverOptions o;
+  o.integrator = integrator;
+  MassSpringCloth cloth(seed_scene(static_cast<int>(state.range(0))), o);
+  const double h = 1.0 / 30.0;
+  cloth.step(h);  // projective factorises on its first step
+  for (auto _ : state) cloth.step(h);
+  state.counters["sim_s_per_s"] = benchmark::Counter(h, benchmark::Counter::kIsIterationInvariantRate);
+}
+
 }  // namespace
 
-// BM_step/<integrator>: one step of the seed scene (implicit-euler at h = 1/60 s, the others
-// at 1e-4 s)
+// BM_step/<integrator>: one step of the seed scene (implicit-euler, xpbd and projective at
+// h = 1/60 s, the others at 1e-4 s)
 int main(int argc, char** argv) {
   for (const Integrator integrator : all_integrators())
     benchmark::RegisterBenchmark(("BM_step/" + std::string(integrator_name(integrator))).c_str(),
@@ -97,6 +110,14 @@ int main(int argc, char** argv) {
        {LinearSolver::cg, LinearSolver::block_jacobi_cg, LinearSolver::ldlt})
     benchmark::RegisterBenchmark(("BM_newton/" + std::string(linear_solver_name(solver))).c_str(),
                                  BM_newton, solver)
+        ->Arg(25)
+        ->Arg(64)
+        ->Arg(128)
+        ->Unit(benchmark::kMillisecond);
+  for (const Integrator integrator : {Integrator::xpbd, Integrator::projective})
+    benchmark::RegisterBenchmark(
+        ("BM_large_step/" + std::string(integrator_name(integrator))).c_str(), BM_large_step,
+        integrator)
         ->Arg(25)
         ->Arg(64)
         ->Arg(128)
