@@ -10,6 +10,27 @@
 
 namespace clothbench::reference {
 
+namespace {
+
+// the shapes other than spheres are not yet built as Bullet bodies: refused, never ignored
+std::optional<Refusal> shape_refusal(const cloth::Scene& scene, const std::string& who) {
+  const cloth::Shapes& s = scene.shapes;
+  const std::pair<const char*, std::size_t> kinds[] = {{"plane", s.planes.size()},
+                                                       {"box", s.boxes.size()},
+                                                       {"capsule", s.capsules.size()},
+                                                       {"cylinder", s.cylinders.size()}};
+  for (const auto& [name, count] : kinds)
+    if (count > 0)
+      return Refusal{who + "a [[" + std::string(name) +
+                         "]] collider, which this adapter does not build as a Bullet body yet; "
+                         "run it with the custom engine",
+                     {std::string(name) + ".0"},
+                     {}};
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::optional<Refusal> bullet_scene_refusal(const cloth::Scene& scene, const std::string& kind) {
   const std::string who = kind + ": ";
   if (scene.cloth.air_drag < 0.0)
@@ -40,6 +61,7 @@ std::optional<Refusal> bullet_scene_refusal(const cloth::Scene& scene, const std
                      {sphere + ".margin"},
                      {}};
   }
+  if (const auto shape = shape_refusal(scene, who)) return shape;
   for (size_t p = 0; p < scene.held.size(); ++p)
     if (scene.held[p] & ~cloth::kHoldAll)
       return Refusal{who + "particle " + std::to_string(p) +
@@ -138,7 +160,7 @@ SphereBodies::SphereBodies(btDiscreteDynamicsWorld& world,
     m_bodies.push_back(std::make_unique<btRigidBody>(ci));
     btRigidBody& b = *m_bodies.back();
     // a moving sphere is kinematic: Bullet reads its pose from the motion state every step
-    if (!s.velocity.isZero()) {
+    if (s.moves()) {
       b.setCollisionFlags(b.getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
     }
     b.setActivationState(DISABLE_DEACTIVATION);
@@ -152,7 +174,7 @@ SphereBodies::~SphereBodies() {
 
 void SphereBodies::move_to(double t) {
   for (size_t i = 0; i < m_spheres.size(); ++i) {
-    if (m_spheres[i].velocity.isZero()) continue;
+    if (!m_spheres[i].moves()) continue;
     btTransform pose;
     pose.setIdentity();
     pose.setOrigin(to_bt(m_spheres[i].center_at(t)));
@@ -165,16 +187,22 @@ BulletCloth::BulletCloth(const cloth::Scene& scene, Dissipation book)
   const int n = m_model.particle_count();
   m_x = start_positions(m_model, scene);
   m_v = cloth::Matrix3X::Zero(3, n);
+  std::vector<bool> in_handle(static_cast<size_t>(n), false);
+  for (const cloth::Handle& h : m_model.handles)
+    for (int p : h.particles) in_handle[size_t(p)] = true;
   for (int p = 0; p < n; ++p)
     for (int a = 0; a < 3; ++a)
-      if (m_model.free(a, p) == 0.0) m_holds.push_back({p, a, m_model.x0(a, p)});
+      if (m_model.free(a, p) == 0.0 && !in_handle[size_t(p)])
+        m_holds.push_back({p, a, m_model.x0(a, p)});
   m_energy = cloth::compute_energies(m_model, m_x, m_v).total();
 }
 
 void BulletCloth::step(double dt) {
+  start_handles(dt);
   advance(dt);
   apply_air_drag(dt);
   project_held_axes();
+  project_handles(m_t + dt);
   // copy the nodes back in our order
   const btSoftBody::tNodeArray& nodes = m_body->m_nodes;
   for (int p = 0; p < nodes.size(); ++p) {
@@ -187,12 +215,13 @@ void BulletCloth::step(double dt) {
   if (m_book == Dissipation::damper_power) {
     // the damping power of the new state (springs and drag), as the custom implicit engine
     // books it
-    const double booked = dt * (cloth::damping_power(m_model.springs, m_x, m_v) +
-                                m_model.air_drag * m_v.squaredNorm());
+    const double booked =
+        dt * (cloth::damping_power(m_model.springs, m_x, m_v) + m_model.drag_power(m_v));
     m_dissipated += booked;
-    // a contact step's balance is contact work and scheme error together: kept apart, so
-    // that energy_error is the scheme's own on the steps free of contact
-    if (had_contact()) m_unbooked += e - m_energy + booked;
+    // a contact step's balance is contact work and scheme error together (and a handle's
+    // step, the holder's work): kept apart, so that energy_error is the scheme's own on the
+    // other steps
+    if (had_contact() || !m_model.handles.empty()) m_unbooked += e - m_energy + booked;
   } else {
     // what the step took out, whatever took it
     m_dissipated += m_energy - e;
@@ -205,11 +234,29 @@ void BulletCloth::step(double dt) {
 void BulletCloth::apply_air_drag(double dt) {
   if (m_model.air_drag == 0.0) return;
   for (int p = 0; p < m_body->m_nodes.size(); ++p) {
-    // m v' = m v - h c v': the drag sub-step solved implicitly, unconditionally stable
-    const double scale = 1.0 / (1.0 + dt * m_model.air_drag * m_model.inv_mass[p]);
+    // m v' = m v - h c (v' - wind): the drag sub-step solved implicitly, unconditionally stable
+    const double a = dt * m_model.air_drag * m_model.inv_mass[p];
+    const btVector3 wind = to_bt(m_model.wind);
     btSoftBody::Node& n = m_body->m_nodes[p];
-    n.m_v *= scale;
-    n.m_vn *= scale;
+    n.m_v = (n.m_v + a * wind) / (1.0 + a);
+    n.m_vn = (n.m_vn + a * wind) / (1.0 + a);
+  }
+}
+
+void BulletCloth::start_handles(double dt) {
+  for (const cloth::Handle& h : m_model.handles) {
+    const cloth::Vector3 v = (h.motion.displacement(m_t + dt) - h.motion.displacement(m_t)) / dt;
+    for (int p : h.particles) m_body->m_nodes[p].m_v = m_body->m_nodes[p].m_vn = to_bt(v);
+  }
+}
+
+void BulletCloth::project_handles(double t) {
+  for (const cloth::Handle& h : m_model.handles) {
+    const cloth::Vector3 d = h.motion.displacement(t);
+    for (int p : h.particles) {
+      btSoftBody::Node& n = m_body->m_nodes[p];
+      n.m_x = n.m_q = to_bt(cloth::Vector3(m_model.x0.col(p) + d));
+    }
   }
 }
 

@@ -158,13 +158,17 @@ class BulletCloth : public cloth::Simulator {
   /// Restores held coordinates to their initial values and zeroes held velocity components
   /// on the nodes (m_x, m_q, m_v and m_vn, so the next step starts from the projected state).
   void project_held_axes();
+  /// Gives the handle nodes the velocity that takes them along their path over the next step.
+  void start_handles(double dt);
+  /// Puts the handle nodes exactly on their path at time t (s).
+  void project_handles(double t);
 
   struct Hold {
     int node = 0;
     int axis = 0;
     double value = 0;  // m
   };
-  std::vector<Hold> m_holds;
+  std::vector<Hold> m_holds;  // constraint axes; handle particles are moved apart
   cloth::Matrix3X m_x, m_v;
   double m_t = 0;
   Dissipation m_book;

@@ -1,5 +1,6 @@
 #include "cloth/mass_spring_cloth.hpp"
 
+#include "cloth/colliders.hpp"
 #include "cloth/sphere_collision.hpp"
 #include "cloth/spring_forces.hpp"
 
@@ -30,11 +31,8 @@ double MassSpringCloth::accelerations(const Matrix3X& x, const Matrix3X& v, Matr
   ++m_counters.force_evals;
   m_force.setZero();
   double power = add_spring_forces(m_model.springs, x, v, m_force, m_buf);
-  const double drag = m_model.air_drag;
-  if (drag != 0.0) {
-    m_force -= drag * v;
-    power += drag * v.squaredNorm();
-  }
+  m_model.add_drag(v, m_force);
+  power += m_model.drag_power(v);
   // a = f / m + g on free axes only
   for (int r = 0; r < 3; ++r) {
     a.row(r) = (m_force.row(r).array() * m_model.inv_mass.transpose().array() + m_model.gravity[r])
@@ -46,6 +44,17 @@ double MassSpringCloth::accelerations(const Matrix3X& x, const Matrix3X& v, Matr
 }
 
 void MassSpringCloth::step(double h) {
+  // handles: their particles carry the path's velocity over the step (held axes keep it)
+  if (!m_model.handles.empty()) start_handles(h);
+  integrate(h);
+  m_t += h;
+  ++m_counters.steps;
+  if (!m_model.handles.empty()) finish_handles(h);
+  // a scene without colliders skips the contact pass altogether
+  if (!m_model.spheres.empty() || !m_model.shapes.empty()) resolve_contacts();
+}
+
+void MassSpringCloth::integrate(double h) {
   double dissipated = 0.0;
   switch (m_options.integrator) {
     case Integrator::explicit_euler: {
@@ -102,33 +111,75 @@ void MassSpringCloth::step(double h) {
     }
     case Integrator::implicit_euler: {
       step_implicit_euler(h);
-      dissipated =
-          h * (damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
+      dissipated = h * (damping_power(m_model.springs, m_x, m_v) + m_model.drag_power(m_v));
       break;
     }
   }
-  m_t += h;
-  ++m_counters.steps;
   m_dissipated += dissipated;
-  // a scene without spheres skips the contact pass altogether
-  if (!m_model.spheres.empty()) resolve_contacts();
+}
+
+double MassSpringCloth::handle_power() {
+  // the holder's force cancels every other force on a handle particle, which does not accelerate
+  ++m_counters.force_evals;
+  m_force.setZero();
+  add_spring_forces(m_model.springs, m_x, m_v, m_force, m_buf);
+  m_model.add_drag(m_v, m_force);
+  double power = 0.0;
+  for (const Handle& hd : m_model.handles)
+    for (int p : hd.particles)
+      power -= (m_force.col(p) + m_model.mass[p] * m_model.gravity).dot(m_v.col(p));
+  return power;
+}
+
+void MassSpringCloth::start_handles(double h) {
+  double work = 0.0;
+  for (const Handle& hd : m_model.handles) {
+    const Vector3 v = (hd.motion.displacement(m_t + h) - hd.motion.displacement(m_t)) / h;
+    for (int p : hd.particles) {
+      // the holder changes the particle's kinetic energy at once
+      work += 0.5 * m_model.mass[p] * (v.squaredNorm() - m_v.col(p).squaredNorm());
+      m_v.col(p) = v;
+    }
+  }
+  // the trapezoidal rule on the holder's power over the step, its first half here
+  m_contact_work += work + 0.5 * h * handle_power();
+}
+
+void MassSpringCloth::finish_handles(double h) {
+  // exactly on the path, whatever the round-off of x += h v
+  for (const Handle& hd : m_model.handles) {
+    const Vector3 d = hd.motion.displacement(m_t);
+    for (int p : hd.particles) m_x.col(p) = m_model.x0.col(p) + d;
+  }
+  m_contact_work += 0.5 * h * handle_power();
 }
 
 void MassSpringCloth::resolve_contacts() {
   // the state the integrator produced (the stage scratch is free between steps)
   m_x1 = m_x;
   m_v1 = m_v;
-  resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free);
-  m_counters.contact_tests +=
-      static_cast<std::int64_t>(m_model.spheres.size()) * m_model.particle_count();
+  if (!m_model.spheres.empty()) {
+    resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free);
+    m_counters.contact_tests +=
+        static_cast<std::int64_t>(m_model.spheres.size()) * m_model.particle_count();
+  }
+  if (!m_model.shapes.empty())
+    m_counters.contact_tests += resolve_shape_contacts(m_model.shapes, m_t, m_x, m_v, m_model.free);
   // kinetic and gravity parts particle by particle (no temporaries), so the difference
   // carries no round-off of the cloth's whole energy
   double work = 0.0;
   bool moved = false;
+  m_contacts = 0;
   for (Eigen::Index p = 0; p < m_x.cols(); ++p) {
     work += 0.5 * m_model.mass[p] * (m_v.col(p).squaredNorm() - m_v1.col(p).squaredNorm());
+    const Vector3 dv = m_v.col(p) - m_v1.col(p);
+    m_contact_impulse += m_model.mass[p] * dv;
     const Vector3 dx = m_x.col(p) - m_x1.col(p);
-    if (dx == Vector3::Zero()) continue;
+    if (dx == Vector3::Zero()) {
+      if (dv != Vector3::Zero()) ++m_contacts;
+      continue;
+    }
+    ++m_contacts;
     moved = true;
     work -= m_model.mass[p] * m_model.gravity.dot(dx);
   }
@@ -158,7 +209,7 @@ void MassSpringCloth::step_implicit_euler(double h) {
     m_force.setZero();
     add_spring_forces(m.springs, m_x1, m_v1, m_force, m_buf);
     for (int r = 0; r < 3; ++r) m_force.row(r) += m.gravity[r] * m.mass.transpose();
-    if (drag != 0.0) m_force -= drag * m_v1;
+    m.add_drag(m_v1, m_force);
     // right-hand side
     m_rhs = h * m_force;
     // x0 + h vb - xb vanishes after the first iteration, where it is h v0

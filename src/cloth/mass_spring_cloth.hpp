@@ -29,6 +29,8 @@ class MassSpringCloth final : public Simulator {
   /// Work of the contact projection and velocity response, booked exactly every step.
   double contact_work() const override { return m_contact_work; }
   Counters counters() const override { return m_counters; }
+  int contacts() const override { return m_contacts; }
+  Vector3 contact_impulse() const override { return m_contact_impulse; }
 
   /// Replaces the state (tests start from chosen velocities). Held axes keep their values.
   /// @param x  3 by #P positions (m)
@@ -45,16 +47,26 @@ class MassSpringCloth final : public Simulator {
   double accelerations(const Matrix3X& x, const Matrix3X& v, Matrix3X& a);
 
  private:
+  /// One step of the integrator alone.
+  void integrate(double h);
   void step_implicit_euler(double h);
-  /// Resolves sphere contacts after a step and books their work in m_contact_work.
+  /// Resolves collider contacts after a step and books their work in m_contact_work.
   void resolve_contacts();
+  /// Gives the handle particles their path's velocity over the next step of h seconds.
+  void start_handles(double h);
+  /// Puts the handle particles exactly on their path at the step's end.
+  void finish_handles(double h);
+  /// Power (W) of the handles' holder at the current state; counts a force evaluation.
+  double handle_power();
 
   Model m_model;
   SolverOptions m_options;
   Matrix3X m_x, m_v;
   double m_t = 0;
   double m_dissipated = 0;    // J, dampers and drag
-  double m_contact_work = 0;  // J, net work of the contact response
+  double m_contact_work = 0;  // J, net work of the contact response and the handles
+  int m_contacts = 0;         // particles the last contact pass moved or stopped
+  Vector3 m_contact_impulse = Vector3::Zero();  // N s, the colliders' impulse so far
   Counters m_counters;
 
   // scratch, sized once

@@ -3,6 +3,7 @@
 /// Per-frame metrics of one engine's state, and the divergence of two engines' states.
 /// Computed from positions and velocities alone, so every engine is measured the same way.
 
+#include <cmath>
 #include <vector>
 
 #include "cloth/model.hpp"
@@ -39,9 +40,12 @@ struct FrameMetrics {
   double mean_strain = 0;        // mean |l / l0 - 1|
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  // m, mass-weighted centre
   double min_y = 0;                               // m, lowest particle height
-  double max_penetration = 0;                     // m, deepest particle below a sphere's surface
+  double max_penetration = 0;                     // m, deepest particle below a collider's surface
   double shadow_area = 0;  // m^2, cloth shadow on the plane normal to gravity
   bool stable = true;
+  int contacts = -1;  // particles in contact at the frame's last step; -1: the engine cannot say
+  Eigen::Vector3d contact_force = Eigen::Vector3d::Constant(NAN);  // N, the colliders' push
+                                                                   // averaged over the frame
 };
 
 /// One row of divergence.csv (without the engine names).

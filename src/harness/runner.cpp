@@ -93,11 +93,20 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   };
 
   // frames sit on the exact grid k * frame_interval; a blow-up row at the failing step's time
+  Eigen::Vector3d impulse = sim->contact_impulse();
+  double impulse_t = sim->time();
   auto log_frame = [&](long long frame, bool stable) {
     const double t = stable ? double(frame) * sc.frame_interval : sim->time();
     FrameMetrics m =
         frame_metrics(model, t, sim->positions(), sim->velocities(), books_of(*sim), e0);
     m.stable = stable;
+    m.contacts = sim->contacts();
+    // the colliders' impulse over the frame divided by its time
+    const Eigen::Vector3d now = sim->contact_impulse();
+    const double span = sim->time() - impulse_t;
+    m.contact_force = span > 0 ? Eigen::Vector3d((now - impulse) / span) : Eigen::Vector3d(now * 0.0);
+    impulse = now;
+    impulse_t = sim->time();
     // a NaN energy error sticks (std::max would drop it and let the gate pass)
     if (stable && !std::isnan(run.max_energy_error) &&
         !(std::abs(m.energy_error) <= run.max_energy_error))
@@ -266,6 +275,12 @@ void write_frames(const RunResult& result, CsvWriter& frames) {
       frames.add(m.total_energy).add(m.energy_error);
       frames.add(m.max_strain).add(m.mean_strain).add(m.com.x()).add(m.com.y()).add(m.com.z());
       frames.add(m.min_y).add(m.max_penetration).add(m.shadow_area).add(m.stable ? 1 : 0);
+      // an engine that cannot say leaves the contact columns empty
+      if (m.contacts < 0)
+        frames.skip().skip().skip().skip();
+      else
+        frames.add(m.contacts).add(m.contact_force.x()).add(m.contact_force.y()).add(
+            m.contact_force.z());
       frames.end_row();
     }
 }
@@ -356,7 +371,8 @@ void write_run(const RunResult& result, const std::string& dir) {
       dir + "/frames.csv",
       {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
        "contact_work", "unbooked", "total_energy", "energy_error", "max_strain", "mean_strain",
-       "com_x", "com_y", "com_z", "min_y", "max_penetration", "shadow_area", "stable"});
+       "com_x", "com_y", "com_z", "min_y", "max_penetration", "shadow_area", "stable",
+       "contacts", "contact_fx", "contact_fy", "contact_fz"});
   write_frames(result, frames);
   CsvWriter div(dir + "/divergence.csv",
                 {"engine", "reference", "t", "rms_distance", "max_distance", "com_distance",

@@ -121,7 +121,8 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
                                                   "unbooked", "total_energy", "energy_error",
                                                   "max_strain", "mean_strain", "com_x", "com_y",
                                                   "com_z", "min_y", "max_penetration",
-                                                  "shadow_area", "stable"});
+                                                  "shadow_area", "stable", "contacts",
+                                                  "contact_fx", "contact_fy", "contact_fz"});
   std::map<std::string, int> rows_per_engine;
   double e0 = 0, rk4_worst = 0;
   for (size_t r = 0; r < frames.rows.size(); ++r) {

@@ -1,0 +1,47 @@
+#pragma once
+/// @file colliders.hpp
+/// Contact with the rigid shapes of a scene other than spheres: half-spaces, axis-aligned boxes,
+/// capsules and y-axis cylinders, each written as a signed distance and its outward normal.
+///
+/// The response is the report's sphere contact (sphere_collision.hpp) for any shape: a particle
+/// closer to the surface than the margin is moved out to that shell along the normal; if it
+/// approaches the collider, its normal velocity relative to the collider becomes -C_R times
+/// what it was, and Coulomb friction takes up to mu times the normal impulse from the
+/// tangential relative velocity. Held axes are left untouched.
+
+#include <cstdint>
+#include <vector>
+
+#include "cloth/scene.hpp"
+#include "cloth/types.hpp"
+
+namespace cloth {
+
+/// Signed distance (m, negative inside) of a point to a surface, and the outward unit normal
+/// there (for box, capsule and cylinder: from the closest surface point).
+struct SurfacePoint {
+  double distance = 0;
+  Vector3 normal = Vector3::UnitY();
+};
+
+/// Each shape at time t (s), moved by its motion.
+SurfacePoint surface_point(const HalfSpace& s, double t, const Vector3& x);
+SurfacePoint surface_point(const Box& s, double t, const Vector3& x);
+SurfacePoint surface_point(const Capsule& s, double t, const Vector3& x);
+SurfacePoint surface_point(const Cylinder& s, double t, const Vector3& x);
+SurfacePoint surface_point(const Sphere& s, double t, const Vector3& x);
+
+/// Resolves contact of every particle with every shape at time t (s).
+/// @param x     3 by #P positions (m), moved out of the shapes
+/// @param v     3 by #P velocities (m/s)
+/// @param free  3 by #P, 1 for a free axis, 0 for a held one
+/// @return particle-shape distance tests made (#P per shape)
+std::int64_t resolve_shape_contacts(const Shapes& shapes, double t, Matrix3X& x, Matrix3X& v,
+                                    const Matrix3X& free);
+
+/// Deepest penetration (m) of any particle below the surface of any collider (spheres included)
+/// at time t; 0 if none.
+double max_penetration(const std::vector<Sphere>& spheres, const Shapes& shapes, double t,
+                       const Matrix3X& x);
+
+}  // namespace cloth
