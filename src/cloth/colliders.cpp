@@ -93,17 +93,19 @@ SurfacePoint surface_point(const Cylinder& s, double t, const Vector3& x) {
 
 namespace {
 
-// the response to one shape of every particle within its shell
+// the response to one shape of every particle within its shell; x0 holds the positions at
+// the step's start
 template <class Shape>
-void resolve_each(const std::vector<Shape>& shapes, double t, Matrix3X& x, Matrix3X& v,
-                  const Matrix3X& free, std::int64_t& tests) {
+void resolve_each(const std::vector<Shape>& shapes, double t, double h, const Matrix3X& x0,
+                  Matrix3X& x, Matrix3X& v, const Matrix3X& free, std::int64_t& tests) {
   const Eigen::Index n = x.cols();
   for (const Shape& s : shapes) {
-    const Vector3 vs = s.velocity_at(t);
+    const Vector3 vs = s.velocity_at(t - h);  // over the step that ends at t
+    const Vector3 moved = s.displacement(t) - s.displacement(t - h);
     tests += n;
     for (Eigen::Index p = 0; p < n; ++p) {
       const SurfacePoint sp = surface_point(s, t, Vector3(x.col(p)));
-      if (sp.distance >= s.margin) continue;
+      if (sp.distance > s.margin) continue;
       const Vector3& nrm = sp.normal;
       x.col(p) += free.col(p).cwiseProduct((s.margin - sp.distance) * nrm);
       // restitution and friction act on the velocity relative to the collider
@@ -114,10 +116,15 @@ void resolve_each(const std::vector<Shape>& shapes, double t, Matrix3X& x, Matri
       Vector3 vt = vrel - vn * nrm;
       const double impulse = (1.0 + s.restitution) * (-vn);  // normal velocity change (m/s)
       const double vt_norm = vt.norm();
-      if (s.friction > 0 && vt_norm > 0)
-        vt *= std::max(0.0, 1.0 - s.friction * impulse / vt_norm);
-      const Vector3 vnew = vs + vt - s.restitution * vn * nrm;
-      v.col(p) += free.col(p).cwiseProduct(vnew - vold);
+      double keep = 1.0;  // the fraction of the tangential velocity friction leaves
+      if (s.friction > 0 && vt_norm > 0) keep = std::max(0.0, 1.0 - s.friction * impulse / vt_norm);
+      vt *= keep;
+      v.col(p) += free.col(p).cwiseProduct(vs + vt - s.restitution * vn * nrm - vold);
+      // friction shortens the step's travel along the surface alike, so that a sticking
+      // particle stays put on the collider
+      Vector3 travel = x.col(p) - x0.col(p) - moved;
+      travel -= travel.dot(nrm) * nrm;
+      x.col(p) += free.col(p).cwiseProduct((keep - 1.0) * travel);
     }
   }
 }
@@ -131,13 +138,13 @@ void deepest(const std::vector<Shape>& shapes, double t, const Matrix3X& x, doub
 
 }  // namespace
 
-std::int64_t resolve_shape_contacts(const Shapes& shapes, double t, Matrix3X& x, Matrix3X& v,
-                                    const Matrix3X& free) {
+std::int64_t resolve_shape_contacts(const Shapes& shapes, double t, double h, const Matrix3X& x0,
+                                    Matrix3X& x, Matrix3X& v, const Matrix3X& free) {
   std::int64_t tests = 0;
-  resolve_each(shapes.planes, t, x, v, free, tests);
-  resolve_each(shapes.boxes, t, x, v, free, tests);
-  resolve_each(shapes.capsules, t, x, v, free, tests);
-  resolve_each(shapes.cylinders, t, x, v, free, tests);
+  resolve_each(shapes.planes, t, h, x0, x, v, free, tests);
+  resolve_each(shapes.boxes, t, h, x0, x, v, free, tests);
+  resolve_each(shapes.capsules, t, h, x0, x, v, free, tests);
+  resolve_each(shapes.cylinders, t, h, x0, x, v, free, tests);
   return tests;
 }
 

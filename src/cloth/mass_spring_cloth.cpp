@@ -46,12 +46,13 @@ double MassSpringCloth::accelerations(const Matrix3X& x, const Matrix3X& v, Matr
 void MassSpringCloth::step(double h) {
   // handles: their particles carry the path's velocity over the step (held axes keep it)
   if (!m_model.handles.empty()) start_handles(h);
+  if (!m_model.shapes.empty()) m_x_start = m_x;  // friction shortens the step's travel
   integrate(h);
   m_t += h;
   ++m_counters.steps;
   if (!m_model.handles.empty()) finish_handles(h);
   // a scene without colliders skips the contact pass altogether
-  if (!m_model.spheres.empty() || !m_model.shapes.empty()) resolve_contacts();
+  if (!m_model.spheres.empty() || !m_model.shapes.empty()) resolve_contacts(h);
 }
 
 void MassSpringCloth::integrate(double h) {
@@ -154,7 +155,7 @@ void MassSpringCloth::finish_handles(double h) {
   m_contact_work += 0.5 * h * handle_power();
 }
 
-void MassSpringCloth::resolve_contacts() {
+void MassSpringCloth::resolve_contacts(double h) {
   // the state the integrator produced (the stage scratch is free between steps)
   m_x1 = m_x;
   m_v1 = m_v;
@@ -164,7 +165,8 @@ void MassSpringCloth::resolve_contacts() {
         static_cast<std::int64_t>(m_model.spheres.size()) * m_model.particle_count();
   }
   if (!m_model.shapes.empty())
-    m_counters.contact_tests += resolve_shape_contacts(m_model.shapes, m_t, m_x, m_v, m_model.free);
+    m_counters.contact_tests +=
+        resolve_shape_contacts(m_model.shapes, m_t, h, m_x_start, m_x, m_v, m_model.free);
   // kinetic and gravity parts particle by particle (no temporaries), so the difference
   // carries no round-off of the cloth's whole energy
   double work = 0.0;

@@ -51,7 +51,7 @@ class MassSpringCloth final : public Simulator {
   void integrate(double h);
   void step_implicit_euler(double h);
   /// Resolves collider contacts after a step and books their work in m_contact_work.
-  void resolve_contacts();
+  void resolve_contacts(double h);
   /// Gives the handle particles their path's velocity over the next step of h seconds.
   void start_handles(double h);
   /// Puts the handle particles exactly on their path at the step's end.
@@ -72,6 +72,7 @@ class MassSpringCloth final : public Simulator {
   // scratch, sized once
   Matrix3X m_force, m_buf;
   Matrix3X m_x1, m_v1;                  // stage states
+  Matrix3X m_x_start;                   // positions at the step's start (scenes with shapes)
   Matrix3X m_k1, m_k2, m_k3, m_k4;      // stage accelerations
   Matrix3X m_rhs, m_dv, m_diag, m_tmp;  // implicit solve
   SpringLinearization m_lin;

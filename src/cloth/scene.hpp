@@ -39,7 +39,7 @@ struct ClothParams {
 /// velocity, or a piecewise-linear path of displacements [t, dx, dy, dz] (times strictly
 /// increasing from 0, zero displacement at t = 0, held at the last displacement after it).
 struct Motion {
-  Vector3 velocity = {0.0, 0.0, 0.0};     // m/s, used when path is empty
+  Vector3 velocity = {0.0, 0.0, 0.0};       // m/s, used when path is empty
   std::vector<std::array<double, 4>> path;  // [s, m, m, m]
 
   /// Displacement from the start at time t (s).

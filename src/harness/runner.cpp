@@ -104,7 +104,8 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
     // the colliders' impulse over the frame divided by its time
     const Eigen::Vector3d now = sim->contact_impulse();
     const double span = sim->time() - impulse_t;
-    m.contact_force = span > 0 ? Eigen::Vector3d((now - impulse) / span) : Eigen::Vector3d(now * 0.0);
+    m.contact_force =
+        span > 0 ? Eigen::Vector3d((now - impulse) / span) : Eigen::Vector3d(now * 0.0);
     impulse = now;
     impulse_t = sim->time();
     // a NaN energy error sticks (std::max would drop it and let the gate pass)
@@ -279,8 +280,10 @@ void write_frames(const RunResult& result, CsvWriter& frames) {
       if (m.contacts < 0)
         frames.skip().skip().skip().skip();
       else
-        frames.add(m.contacts).add(m.contact_force.x()).add(m.contact_force.y()).add(
-            m.contact_force.z());
+        frames.add(m.contacts)
+            .add(m.contact_force.x())
+            .add(m.contact_force.y())
+            .add(m.contact_force.z());
       frames.end_row();
     }
 }
@@ -367,12 +370,14 @@ void write_run_info(const std::string& dir) {
 
 void write_run(const RunResult& result, const std::string& dir) {
   make_directories(dir);
+  // clang-format off
   CsvWriter frames(
       dir + "/frames.csv",
       {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
        "contact_work", "unbooked", "total_energy", "energy_error", "max_strain", "mean_strain",
        "com_x", "com_y", "com_z", "min_y", "max_penetration", "shadow_area", "stable",
        "contacts", "contact_fx", "contact_fy", "contact_fz"});
+  // clang-format on
   write_frames(result, frames);
   CsvWriter div(dir + "/divergence.csv",
                 {"engine", "reference", "t", "rms_distance", "max_distance", "com_distance",

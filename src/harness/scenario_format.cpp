@@ -9,9 +9,10 @@
 namespace clothbench {
 
 const Keys kTopKeys = {
-    "name",          "description", "duration", "frame_interval", "snapshot_interval",
-    "blowup_strain", "blowup_energy", "reference", "gravity", "cloth", "constraint",
-    "sphere",        "engine", "wind", "plane", "box", "capsule", "cylinder", "handle"};
+    "name",          "description",   "duration",  "frame_interval", "snapshot_interval",
+    "blowup_strain", "blowup_energy", "reference", "gravity",        "cloth",
+    "constraint",    "sphere",        "engine",    "wind",           "plane",
+    "box",           "capsule",       "cylinder",  "handle"};
 const Keys kClothKeys = {"particles",  "size",      "center",  "plane",   "particle_mass",
                          "total_mass", "stiffness", "damping", "air_drag"};
 const Keys kStiffnessKeys = {"structural", "shear", "bend"};

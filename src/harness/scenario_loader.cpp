@@ -153,10 +153,12 @@ std::vector<std::array<double, 4>> read_path(const Reader& r, const At& at) {
     std::array<double, 4> p{};
     for (size_t c = 0; row && row->size() == 4 && c < 4; ++c) {
       const toml::node& x = *row->get(c);
-      const auto v = x.is_integer() ? std::optional<double>(double(x.as_integer()->get()))
-                                    : x.value<double>();
-      if (!v || !std::isfinite(*v)) row = nullptr;
-      else p[c] = *v;
+      const auto v =
+          x.is_integer() ? std::optional<double>(double(x.as_integer()->get())) : x.value<double>();
+      if (!v || !std::isfinite(*v))
+        row = nullptr;
+      else
+        p[c] = *v;
     }
     if (!row || row->size() != 4) r.expected(e, key, "[t, dx, dy, dz], 4 numbers (s, m, m, m)");
     if (k == 0 && (p[0] != 0 || p[1] != 0 || p[2] != 0 || p[3] != 0))
@@ -239,9 +241,8 @@ cloth::Capsule read_capsule(const Reader& r, const toml::table& t, const std::st
   s.b = r.vec3(at, "b", s.b);
   if (!((s.b - s.a).squaredNorm() > 0))
     r.fail(t.get("b") ? t.get("b") : &t, at.key("b"),
-           "expected b different from a (a capsule's axis), got both at [" +
-               toml_double(s.a.x()) + ", " + toml_double(s.a.y()) + ", " + toml_double(s.a.z()) +
-               "]");
+           "expected b different from a (a capsule's axis), got both at [" + toml_double(s.a.x()) +
+               ", " + toml_double(s.a.y()) + ", " + toml_double(s.a.z()) + "]");
   s.radius = r.number(at, "radius", s.radius, kPositive);
   read_collider(r, at, s);
   return s;
@@ -416,8 +417,8 @@ void read_handles(const Reader& r, const toml::table& root, Scenario& s) {
     const std::vector<std::uint8_t> mask = held_mask(s.scene.cloth, {h.select});
     for (size_t p = 0; p < mask.size(); ++p) {
       if (!mask[p]) continue;
-      const std::string which = "particle (" + std::to_string(p % size_t(s.scene.cloth.nu)) +
-                                ", " + std::to_string(p / size_t(s.scene.cloth.nu)) + ")";
+      const std::string which = "particle (" + std::to_string(p % size_t(s.scene.cloth.nu)) + ", " +
+                                std::to_string(p / size_t(s.scene.cloth.nu)) + ")";
       const toml::node* blame_at = tables[k]->get("select") ? tables[k]->get("select") : tables[k];
       for (size_t c = 0; c < s.constraints.size(); ++c)
         if (held_by[c][p])

@@ -31,7 +31,9 @@ void write_custom_options(std::ostream& o, const cloth::SolverOptions& so) {
     << "clamp_compressed = " << (so.clamp_compressed ? "true" : "false") << "\n";
 }
 
-std::string vec3(const cloth::Vector3& v) { return vec({v.x(), v.y(), v.z()}); }
+std::string vec3(const cloth::Vector3& v) {
+  return vec({v.x(), v.y(), v.z()});
+}
 
 /// A motion's key: velocity (when allowed and there is no path) or path.
 void write_motion(std::ostream& o, const cloth::Motion& m, bool velocity_key) {
