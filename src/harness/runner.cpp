@@ -71,6 +71,28 @@ class EnergyTest {
   double m_e0 = 0;  // J
 };
 
+/// The contacts of a frame: how many particles touch a collider, and the colliders' impulse
+/// over the frame divided by its time (NaN and -1 for an engine that cannot say).
+class ContactMeter {
+ public:
+  explicit ContactMeter(const cloth::Simulator& sim)
+      : m_sim(sim), m_impulse(sim.contact_impulse()), m_t(sim.time()) {}
+  void read(FrameMetrics& m) {
+    m.contacts = m_sim.contacts();
+    const Eigen::Vector3d now = m_sim.contact_impulse();
+    const double span = m_sim.time() - m_t;
+    m.contact_force =
+        span > 0 ? Eigen::Vector3d((now - m_impulse) / span) : Eigen::Vector3d(now * 0.0);
+    m_impulse = now;
+    m_t = m_sim.time();
+  }
+
+ private:
+  const cloth::Simulator& m_sim;
+  Eigen::Vector3d m_impulse;  // N s, at the last frame
+  double m_t;                 // s, of the last frame
+};
+
 }  // namespace
 
 EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
@@ -93,21 +115,13 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   };
 
   // frames sit on the exact grid k * frame_interval; a blow-up row at the failing step's time
-  Eigen::Vector3d impulse = sim->contact_impulse();
-  double impulse_t = sim->time();
+  ContactMeter contact(*sim);
   auto log_frame = [&](long long frame, bool stable) {
     const double t = stable ? double(frame) * sc.frame_interval : sim->time();
     FrameMetrics m =
         frame_metrics(model, t, sim->positions(), sim->velocities(), books_of(*sim), e0);
     m.stable = stable;
-    m.contacts = sim->contacts();
-    // the colliders' impulse over the frame divided by its time
-    const Eigen::Vector3d now = sim->contact_impulse();
-    const double span = sim->time() - impulse_t;
-    m.contact_force =
-        span > 0 ? Eigen::Vector3d((now - impulse) / span) : Eigen::Vector3d(now * 0.0);
-    impulse = now;
-    impulse_t = sim->time();
+    contact.read(m);
     // a NaN energy error sticks (std::max would drop it and let the gate pass)
     if (stable && !std::isnan(run.max_energy_error) &&
         !(std::abs(m.energy_error) <= run.max_energy_error))
