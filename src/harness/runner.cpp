@@ -77,7 +77,7 @@ class ContactMeter {
  public:
   explicit ContactMeter(const cloth::Simulator& sim)
       : m_sim(sim), m_impulse(sim.contact_impulse()), m_t(sim.time()) {}
-  void read(FrameMetrics& m) {
+  FrameMetrics read(FrameMetrics m) {
     m.contacts = m_sim.contacts();
     const Eigen::Vector3d now = m_sim.contact_impulse();
     const double span = m_sim.time() - m_t;
@@ -85,6 +85,7 @@ class ContactMeter {
         span > 0 ? Eigen::Vector3d((now - m_impulse) / span) : Eigen::Vector3d(now * 0.0);
     m_impulse = now;
     m_t = m_sim.time();
+    return m;
   }
 
  private:
@@ -107,7 +108,6 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   const long long steps_per_check =
       std::clamp(std::llround(kEnergyCheckInterval / spec.dt), 1LL, steps_per_frame);
   EnergyTest energy_test(model, *sim, sc.blowup_energy);
-  const double e0 = energy_test.e0();
   auto fail = [&](const char* cause) {
     run.stable = false;
     run.cause = cause;
@@ -118,10 +118,9 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   ContactMeter contact(*sim);
   auto log_frame = [&](long long frame, bool stable) {
     const double t = stable ? double(frame) * sc.frame_interval : sim->time();
-    FrameMetrics m =
-        frame_metrics(model, t, sim->positions(), sim->velocities(), books_of(*sim), e0);
+    FrameMetrics m = contact.read(frame_metrics(model, t, sim->positions(), sim->velocities(),
+                                                books_of(*sim), energy_test.e0()));
     m.stable = stable;
-    contact.read(m);
     // a NaN energy error sticks (std::max would drop it and let the gate pass)
     if (stable && !std::isnan(run.max_energy_error) &&
         !(std::abs(m.energy_error) <= run.max_energy_error))
