@@ -106,12 +106,14 @@ double static_residual(const cloth::Model& model, double t, const cloth::Matrix3
 Divergence divergence(const cloth::Matrix3X& x, const FrameMetrics& m, const cloth::Matrix3X& x_ref,
                       const FrameMetrics& m_ref);
 
-/// Support area (m^2) under the cloth for the drape coefficient: the held disks of the table
-/// scene, else the cross-sections of the fixed spheres a horizontal cloth drapes over; 0 when
-/// the scene has no support (a vertical cloth, a sphere that moves), so no coefficient is given.
+/// Support area (m^2) under the cloth for the drape coefficient: held disks, else the tops of
+/// the fixed cylinders (the Cusick disk) under a horizontal cloth, else the cross-sections of
+/// the fixed spheres it drapes over; 0 when the scene has no support (a vertical cloth, a
+/// collider that moves), so no coefficient is given.
 /// @param horizontal  the cloth starts flat in the x-z plane
 double support_area(const std::vector<double>& disk_radii,
-                    const std::vector<cloth::Sphere>& spheres, bool horizontal);
+                    const std::vector<cloth::Sphere>& spheres, bool horizontal,
+                    const std::vector<cloth::Cylinder>& cylinders = {});
 
 /// Cusick drape coefficient (shadow - support) / (cloth - support).
 double drape_coefficient(double shadow, double support, double cloth_area);

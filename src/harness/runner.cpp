@@ -249,8 +249,9 @@ double final_drape_coefficient(const RunResult& result, const EngineRun& run) {
   for (const ConstraintSpec& c : result.scenario.constraints)
     if (c.select == "disk") disks.push_back(c.disk_radius);
   const cloth::ClothParams& c = result.scenario.scene.cloth;
+  const cloth::Scene& scene = result.scenario.scene;
   const double support =
-      support_area(disks, result.scenario.scene.spheres, c.plane == cloth::Plane::xz);
+      support_area(disks, scene.spheres, c.plane == cloth::Plane::xz, scene.shapes.cylinders);
   const double cloth_area = c.size_u * c.size_v;
   if (support <= 0 || cloth_area <= support || run.frames.empty())
     return std::numeric_limits<double>::quiet_NaN();
