@@ -97,17 +97,18 @@ namespace {
 // the step's start
 template <class Shape>
 void resolve_each(const std::vector<Shape>& shapes, double t, double h, const Matrix3X& x0,
-                  Matrix3X& x, Matrix3X& v, const Matrix3X& free, std::int64_t& tests) {
+                  Matrix3X& x, Matrix3X& v, const Matrix3X& free, const VectorX& mass,
+                  ContactTally& tally) {
   const Eigen::Index n = x.cols();
   for (const Shape& s : shapes) {
     const Vector3 vs = s.velocity_at(t - h);  // over the step that ends at t
     const Vector3 moved = s.displacement(t) - s.displacement(t - h);
-    tests += n;
     for (Eigen::Index p = 0; p < n; ++p) {
       const SurfacePoint sp = surface_point(s, t, Vector3(x.col(p)));
       if (sp.distance > s.margin) continue;
       const Vector3& nrm = sp.normal;
       x.col(p) += free.col(p).cwiseProduct((s.margin - sp.distance) * nrm);
+      ++tally.contacts;
       // restitution and friction act on the velocity relative to the collider
       const Vector3 vold = v.col(p);
       const Vector3 vrel = vold - vs;
@@ -120,6 +121,7 @@ void resolve_each(const std::vector<Shape>& shapes, double t, double h, const Ma
       if (s.friction > 0 && vt_norm > 0) keep = std::max(0.0, 1.0 - s.friction * impulse / vt_norm);
       vt *= keep;
       v.col(p) += free.col(p).cwiseProduct(vs + vt - s.restitution * vn * nrm - vold);
+      tally.impulse += mass[p] * (v.col(p) - vold);
       // friction shortens the step's travel along the surface alike, so that a sticking
       // particle stays put on the collider
       Vector3 travel = x.col(p) - x0.col(p) - moved;
@@ -139,13 +141,13 @@ void deepest(const std::vector<Shape>& shapes, double t, const Matrix3X& x, doub
 }  // namespace
 
 std::int64_t resolve_shape_contacts(const Shapes& shapes, double t, double h, const Matrix3X& x0,
-                                    Matrix3X& x, Matrix3X& v, const Matrix3X& free) {
-  std::int64_t tests = 0;
-  resolve_each(shapes.planes, t, h, x0, x, v, free, tests);
-  resolve_each(shapes.boxes, t, h, x0, x, v, free, tests);
-  resolve_each(shapes.capsules, t, h, x0, x, v, free, tests);
-  resolve_each(shapes.cylinders, t, h, x0, x, v, free, tests);
-  return tests;
+                                    Matrix3X& x, Matrix3X& v, const Matrix3X& free,
+                                    const VectorX& mass, ContactTally& tally) {
+  resolve_each(shapes.planes, t, h, x0, x, v, free, mass, tally);
+  resolve_each(shapes.boxes, t, h, x0, x, v, free, mass, tally);
+  resolve_each(shapes.capsules, t, h, x0, x, v, free, mass, tally);
+  resolve_each(shapes.cylinders, t, h, x0, x, v, free, mass, tally);
+  return static_cast<std::int64_t>(shapes.count()) * x.cols();
 }
 
 double max_penetration(const std::vector<Sphere>& spheres, const Shapes& shapes, double t,

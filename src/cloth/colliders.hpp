@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cloth/scene.hpp"
+#include "cloth/sphere_collision.hpp"
 #include "cloth/types.hpp"
 
 namespace cloth {
@@ -38,9 +39,12 @@ SurfacePoint surface_point(const Sphere& s, double t, const Vector3& x);
 /// @param x     3 by #P positions (m), moved out of the shapes
 /// @param v     3 by #P velocities (m/s)
 /// @param free  3 by #P, 1 for a free axis, 0 for a held one
+/// @param mass  #P masses (kg)
+/// @param tally counts the contacts and adds their impulse
 /// @return particle-shape distance tests made (#P per shape)
 std::int64_t resolve_shape_contacts(const Shapes& shapes, double t, double h, const Matrix3X& x0,
-                                    Matrix3X& x, Matrix3X& v, const Matrix3X& free);
+                                    Matrix3X& x, Matrix3X& v, const Matrix3X& free,
+                                    const VectorX& mass, ContactTally& tally);
 
 /// Deepest penetration (m) of any particle below the surface of any collider (spheres included)
 /// at time t; 0 if none.

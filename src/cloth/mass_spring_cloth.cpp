@@ -159,29 +159,25 @@ void MassSpringCloth::resolve_contacts(double h) {
   // the state the integrator produced (the stage scratch is free between steps)
   m_x1 = m_x;
   m_v1 = m_v;
+  ContactTally tally;
   if (!m_model.spheres.empty()) {
-    resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free);
+    resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free, &tally);
     m_counters.contact_tests +=
         static_cast<std::int64_t>(m_model.spheres.size()) * m_model.particle_count();
   }
   if (!m_model.shapes.empty())
-    m_counters.contact_tests +=
-        resolve_shape_contacts(m_model.shapes, m_t, h, m_x_start, m_x, m_v, m_model.free);
+    m_counters.contact_tests += resolve_shape_contacts(m_model.shapes, m_t, h, m_x_start, m_x, m_v,
+                                                       m_model.free, m_model.mass, tally);
+  m_contacts = tally.contacts;
+  m_contact_impulse += tally.impulse;
   // kinetic and gravity parts particle by particle (no temporaries), so the difference
   // carries no round-off of the cloth's whole energy
   double work = 0.0;
   bool moved = false;
-  m_contacts = 0;
   for (Eigen::Index p = 0; p < m_x.cols(); ++p) {
     work += 0.5 * m_model.mass[p] * (m_v.col(p).squaredNorm() - m_v1.col(p).squaredNorm());
-    const Vector3 dv = m_v.col(p) - m_v1.col(p);
-    m_contact_impulse += m_model.mass[p] * dv;
     const Vector3 dx = m_x.col(p) - m_x1.col(p);
-    if (dx == Vector3::Zero()) {
-      if (dv != Vector3::Zero()) ++m_contacts;
-      continue;
-    }
-    ++m_contacts;
+    if (dx == Vector3::Zero()) continue;
     moved = true;
     work -= m_model.mass[p] * m_model.gravity.dot(dx);
   }

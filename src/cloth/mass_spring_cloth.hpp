@@ -65,7 +65,7 @@ class MassSpringCloth final : public Simulator {
   double m_t = 0;
   double m_dissipated = 0;    // J, dampers and drag
   double m_contact_work = 0;  // J, net work of the contact response and the handles
-  int m_contacts = 0;         // particles the last contact pass moved or stopped
+  int m_contacts = 0;         // particle-collider contacts of the last contact pass
   Vector3 m_contact_impulse = Vector3::Zero();  // N s, the colliders' impulse so far
   Counters m_counters;
 

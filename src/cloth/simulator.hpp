@@ -39,7 +39,8 @@ class Simulator {
   /// (the normal velocity it cancels, friction), and the work of the handles' holder;
   /// 0 for an engine that cannot separate it.
   virtual double contact_work() const { return 0.0; }
-  /// Particles in contact with a collider at the last step; -1 for an engine that cannot say.
+  /// Particle-collider contacts (particles within a collider's shell) at the last step; -1 for
+  /// an engine that cannot say.
   virtual int contacts() const { return -1; }
   /// Impulse the colliders have given the cloth since the start (N s); NaN for an engine that
   /// cannot say.

@@ -6,7 +6,8 @@
 namespace cloth {
 
 double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Matrix3X& x,
-                               Matrix3X& v, const VectorX& mass, const Matrix3X& free) {
+                               Matrix3X& v, const VectorX& mass, const Matrix3X& free,
+                               ContactTally* tally) {
   double removed = 0.0;
   const int n = static_cast<int>(x.cols());
   for (const Sphere& s : spheres) {
@@ -23,6 +24,7 @@ double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Mat
       const Vector3 nrm = dist > 0 ? Vector3(d / dist) : Vector3::UnitY();
       const Vector3 target = c + shell * nrm;
       x.col(p) += free.col(p).cwiseProduct(target - x.col(p));
+      if (tally) ++tally->contacts;
       // restitution and friction act on the velocity relative to the sphere
       const Vector3 vold = v.col(p);
       const Vector3 vrel = vold - vs;
@@ -34,6 +36,7 @@ double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Mat
       if (s.friction > 0 && vt_norm > 0) vt *= std::max(0.0, 1.0 - s.friction * impulse / vt_norm);
       const Vector3 vnew = vs + vt - s.restitution * vn * nrm;
       v.col(p) += free.col(p).cwiseProduct(vnew - vold);
+      if (tally) tally->impulse += mass[p] * (v.col(p) - vold);
       removed += 0.5 * mass[p] * (vold.squaredNorm() - v.col(p).squaredNorm());
     }
   }
