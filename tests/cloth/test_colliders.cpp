@@ -328,3 +328,30 @@ TEST_CASE("Bullet engines: handles on their path and the wind's terminal velocit
     CHECK((v - terminal).norm() < kTerminalRelative * terminal.norm());
   }
 }
+
+TEST_CASE("bullet-deformable: Coulomb friction on an incline, on both sides of tan(theta)",
+          "[colliders][bullet]") {
+  // Bullet's soft-rigid friction is kDF (1) times the collider's: the deformable world bounds
+  // the tangential impulse by it, as Coulomb does. (The classic soft body does not: README.)
+  const double theta = 20.0 * M_PI / 180.0;
+  clothbench::EngineSpec spec;
+  spec.kind = clothbench::EngineKind::bullet_deformable;
+  spec.dt = 1e-3;
+  for (const double mu : {std::tan(theta) + 0.02, 0.2}) {
+    Scene s = flat_cloth(0.01);
+    s.gravity = {kG * std::sin(theta), -kG * std::cos(theta), 0.0};
+    s.shapes.planes.push_back(floor_plane(mu));
+    REQUIRE_FALSE(clothbench::engine_refusal(spec, s));
+    auto sim = clothbench::make_engine(spec, s);
+    const double start = sim->positions().row(0).mean();
+    for (int i = 0; i < 1000; ++i) sim->step(spec.dt);
+    const double moved = sim->positions().row(0).mean() - start;
+    INFO("mu = " << mu << ": moved " << moved << " m");
+    if (mu > std::tan(theta)) {
+      CHECK(std::abs(moved) < kStickDistance);
+    } else {
+      const double a = kG * (std::sin(theta) - mu * std::cos(theta));
+      CHECK(std::abs(2.0 * moved - a) < kSlideRelative * a);
+    }
+  }
+}
