@@ -5,13 +5,14 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import style
+from . import colliders, style
 
 STEM = "drape"
 TITLE = "Drape shape"
 CAPTION = ("The cloth at chosen snapshot times (columns) for every engine (rows), drawn with the "
-           "same view and the same scale in every panel; the sphere is drawn where the scenario "
-           "has one, and a 1 × N grid (a chain) as its particles joined by a line. A panel stays "
+           "same view and the same scale in every panel; spheres, planes, boxes, capsules and "
+           "cylinders are drawn where the scenario has them at that time, and a 1 × N grid (a "
+           "chain) as its particles joined by a line. A panel stays "
            "empty where the engine had already blown up.")
 
 ELEV, AZIM = 22.0, -58.0  # degrees, one view for every panel
@@ -166,6 +167,7 @@ def draw(folders, ctx):
             previous = t
             for sc, sr in spheres(f, t):
                 draw_sphere(ax, sc, sr, (lo, hi))
+            colliders.draw_3d(ax, f, t, (lo, hi))
             g = f.snapshot(engine, t)
             ok = np.all(np.isfinite(g)) and np.all((g >= lo - 1e-9) & (g <= hi + 1e-9))
             state = ""
