@@ -33,6 +33,10 @@ inline btVector3 to_bt(const cloth::Vector3& v) {
 /// other than x, y and z; nullopt when there is none of that.
 std::optional<Refusal> bullet_scene_refusal(const cloth::Scene& scene, const std::string& kind);
 
+/// The first collider whose friction exceeds 1 (the classic soft body's kDF * friction is a
+/// fraction of the tangential velocity), refused in the words of who ("bullet-softbody: ").
+std::optional<Refusal> friction_above_one(const cloth::Scene& scene, const std::string& who);
+
 /// Picks the material of one link (nullptr: the body's default material).
 using LinkMaterial =
     std::function<btSoftBody::Material*(btSoftBody& body, const cloth::SpringLink&)>;
@@ -57,29 +61,46 @@ btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model
 cloth::Matrix3X start_positions(const cloth::Model& model, const cloth::Scene& scene);
 
 /// Sparse-SDF voxel size (m) fine enough that the interpolated sphere surface is within
-/// radius / 3200 of the true one (trilinear error ~ voxel^2 / (8 radius)).
-double sdf_voxel_size(const std::vector<cloth::Sphere>& spheres);
+/// radius / 3200 of the true one (trilinear error ~ voxel^2 / (8 radius)), and a twentieth of
+/// every other shape's smallest dimension.
+double sdf_voxel_size(const cloth::Scene& scene);
 
-/// The scene's spheres as rigid bodies: static, or kinematic when they move.
-class SphereBodies {
+/// The contact margin of the scene's colliders (they all have one, bullet_scene_refusal checks):
+/// the first collider's, 0.01 m when there is none.
+double collider_margin(const cloth::Scene& scene);
+
+/// The scene's colliders as rigid bodies: static, or kinematic when they move. A plane is a
+/// box 200 m wide and 2 m thick whose face is the plane (Bullet's sparse SDF, through which
+/// soft bodies meet rigid ones, measures convex shapes only); a capsule is btCapsuleShape
+/// turned from y onto a-b, a cylinder btCylinderShape (axis along y).
+class ColliderBodies {
  public:
-  /// Adds the spheres to world with the scene's friction; world must outlive this object.
-  SphereBodies(btDiscreteDynamicsWorld& world, const std::vector<cloth::Sphere>& spheres);
+  /// Adds the colliders to world with the scene's friction (Bullet's soft-rigid friction is
+  /// the soft body's kDF, 1 here, times the rigid body's); world must outlive this object.
+  ColliderBodies(btDiscreteDynamicsWorld& world, const cloth::Scene& scene);
   /// Removes the bodies from the world and frees them.
-  ~SphereBodies();
-  SphereBodies(const SphereBodies&) = delete;
-  SphereBodies& operator=(const SphereBodies&) = delete;
+  ~ColliderBodies();
+  ColliderBodies(const ColliderBodies&) = delete;
+  ColliderBodies& operator=(const ColliderBodies&) = delete;
 
-  /// Puts the kinematic spheres where they are at time t (s); Bullet takes their velocity
+  /// Puts the kinematic bodies where they are at time t (s); Bullet takes their velocity
   /// from the change of pose over the next step.
   void move_to(double t);
 
  private:
+  /// Adds one body of shape with the pose (origin at t = 0, rotation) and motion of c.
+  void add(std::unique_ptr<btCollisionShape> shape, const cloth::Collider& c,
+           const cloth::Vector3& origin, const btQuaternion& rotation);
+
+  struct Body {
+    cloth::Motion motion;
+    btTransform start;
+    std::unique_ptr<btCollisionShape> shape;
+    std::unique_ptr<btDefaultMotionState> state;
+    std::unique_ptr<btRigidBody> body;
+  };
   btDiscreteDynamicsWorld& m_world;
-  std::vector<cloth::Sphere> m_spheres;
-  std::vector<std::unique_ptr<btSphereShape>> m_shapes;
-  std::vector<std::unique_ptr<btDefaultMotionState>> m_states;
-  std::vector<std::unique_ptr<btRigidBody>> m_bodies;
+  std::vector<Body> m_bodies;
 };
 
 /// The collision machinery every soft-body world is built on. Declare it before the world
@@ -97,14 +118,14 @@ struct CollisionParts {
 void set_up_world(btDiscreteDynamicsWorld& world, btSoftBodyWorldInfo& info,
                   const cloth::Scene& scene);
 
-/// One fixed step of world: the kinematic spheres moved to their pose at t + dt,
+/// One fixed step of world: the kinematic colliders moved to their pose at t + dt,
 /// stepSimulation(dt, 0, dt), then sparse-SDF cells unused for a while dropped (as Bullet's
 /// own demos do every frame).
-void step_world(btDiscreteDynamicsWorld& world, btSoftBodyWorldInfo& info, SphereBodies& spheres,
+void step_world(btDiscreteDynamicsWorld& world, btSoftBodyWorldInfo& info, ColliderBodies& bodies,
                 double t, double dt);
 
 /// The contact settings both engines share: node contacts as hard against static and
-/// kinematic spheres as against dynamic ones (kCHR = kKHR = 1), friction = the sphere's
+/// kinematic colliders as against dynamic ones (kCHR = kKHR = 1), friction = the collider's
 /// (kDF = 1), the scene's margin, never put to sleep.
 void set_contact_config(btSoftBody& body, const cloth::Scene& scene);
 
@@ -158,13 +179,17 @@ class BulletCloth : public cloth::Simulator {
   /// Restores held coordinates to their initial values and zeroes held velocity components
   /// on the nodes (m_x, m_q, m_v and m_vn, so the next step starts from the projected state).
   void project_held_axes();
+  /// Gives the handle nodes the velocity that takes them along their path over the next step.
+  void start_handles(double dt);
+  /// Puts the handle nodes exactly on their path at time t (s).
+  void project_handles(double t);
 
   struct Hold {
     int node = 0;
     int axis = 0;
     double value = 0;  // m
   };
-  std::vector<Hold> m_holds;
+  std::vector<Hold> m_holds;  // constraint axes; handle particles are moved apart
   cloth::Matrix3X m_x, m_v;
   double m_t = 0;
   Dissipation m_book;

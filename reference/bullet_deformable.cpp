@@ -53,7 +53,7 @@ class BulletDeformableCloth final : public BulletCloth {
     m_world->addForce(m_body, m_springs.get());
     m_world->addForce(m_body, m_gravity.get());
 
-    m_spheres = std::make_unique<SphereBodies>(*m_world, scene.spheres);
+    m_spheres = std::make_unique<ColliderBodies>(*m_world, scene);
   }
 
   ~BulletDeformableCloth() override {
@@ -79,7 +79,7 @@ class BulletDeformableCloth final : public BulletCloth {
   std::unique_ptr<btDeformableMultiBodyDynamicsWorld> m_world;
   std::unique_ptr<btDeformableMassSpringForce> m_springs;
   std::unique_ptr<btDeformableGravityForce> m_gravity;
-  std::unique_ptr<SphereBodies> m_spheres;
+  std::unique_ptr<ColliderBodies> m_spheres;
 };
 
 }  // namespace

@@ -52,7 +52,7 @@ class BulletSoftBodyCloth final : public BulletCloth {
     set_contact_config(*m_body, scene);
     m_world->addSoftBody(m_body);
 
-    m_spheres = std::make_unique<SphereBodies>(*m_world, scene.spheres);
+    m_spheres = std::make_unique<ColliderBodies>(*m_world, scene);
   }
 
   ~BulletSoftBodyCloth() override {
@@ -94,7 +94,7 @@ class BulletSoftBodyCloth final : public BulletCloth {
   CollisionParts m_parts;
   btSequentialImpulseConstraintSolver m_constraint_solver;
   std::unique_ptr<btSoftRigidDynamicsWorld> m_world;
-  std::unique_ptr<SphereBodies> m_spheres;
+  std::unique_ptr<ColliderBodies> m_spheres;
 };
 
 }  // namespace
@@ -116,14 +116,7 @@ std::optional<Refusal> softbody_refusal(const BulletOptions& o, double dt,
                    {},
                    {"implicit", "line_search"}};
   // Bullet's classic friction is kDF * friction with kDF in [0, 1]
-  for (size_t i = 0; i < scene.spheres.size(); ++i)
-    if (scene.spheres[i].friction > 1.0)
-      return Refusal{who + "sphere " + std::to_string(i) + " has friction " +
-                         cloth::toml_double(scene.spheres[i].friction) +
-                         ", but the classic soft body's friction is at most 1",
-                     {"sphere." + std::to_string(i) + ".friction"},
-                     {}};
-  return std::nullopt;
+  return friction_above_one(scene, who);
 }
 
 std::unique_ptr<cloth::Simulator> make_bullet_softbody(const BulletOptions& options, double dt,

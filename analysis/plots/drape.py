@@ -5,7 +5,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import style
+from . import colliders, style
 
 STEM = "drape"
 TITLE = "Drape shape"
@@ -13,8 +13,9 @@ CAPTION = ("The cloth at chosen snapshot times (columns) for every engine (rows)
            "same view and the same scale in every panel, coloured by each particle's distance to "
            "the reference engine at the same time (mm, one colour bar for every panel up to the "
            "95th percentile of the distances, larger ones in its top colour; the reference "
-           "itself is uniformly 0); the sphere is drawn where the scenario "
-           "has one, and a 1 × N grid (a chain) as its particles joined by a line. A panel stays "
+           "itself is uniformly 0); spheres, planes, boxes, capsules and cylinders are drawn "
+           "where the scenario has them at that time, and a 1 × N grid (a chain) as its "
+           "particles joined by a line. A panel stays "
            "empty where the engine had already blown up.")
 
 ELEV, AZIM = 22.0, -58.0  # degrees, one view for every panel
@@ -201,6 +202,7 @@ def draw(folders, ctx):
             previous = t
             for sc, sr in spheres(f, t):
                 draw_sphere(ax, sc, sr, (lo, hi))
+            colliders.draw_3d(ax, f, t, (lo, hi))
             g = f.snapshot(engine, t)
             ok = np.all(np.isfinite(g)) and np.all((g >= lo - 1e-9) & (g <= hi + 1e-9))
             state = ""

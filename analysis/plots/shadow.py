@@ -5,7 +5,7 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from . import style
+from . import colliders, style
 from .drape import spheres
 
 STEM = "shadow"
@@ -176,6 +176,7 @@ def draw(folders, ctx):
             ax.add_patch(plt.Circle((x, y), r, fill=False, color="black", ls="-.", lw=1.2))
             handles.append((plt.Line2D([], [], color="black", ls="-."),
                             f"support: held disk r = {style.fmt(r)} m"))
+        handles += colliders.draw_top(ax, f, ab)
         for e in engines:
             color = ctx.colors[e]
             info = f.engine_info(e)

@@ -43,7 +43,9 @@ double ImplicitEulerNewton::objective(const Model& m, double h, const Matrix3X& 
   // dampers' Rayleigh potential: v . D0 v = -c sum (d0 . (v_q - v_p))^2
   m_damp.setZero();
   add_jacobian_product(m.springs, m_lin0, v, 0.0, 1.0, m_damp, m_buf);
-  const double rayleigh = -v.cwiseProduct(m_damp).sum() + m.air_drag * v.squaredNorm();
+  // drag's potential: c |v - wind|^2 less the constant c |wind|^2
+  const double rayleigh = -v.cwiseProduct(m_damp).sum() + m.air_drag * v.squaredNorm() -
+                          2.0 * m.air_drag * m.wind.dot(v.rowwise().sum());
   return 0.5 * inertia + elastic_energy(m.springs, m_x) + 0.5 * h * rayleigh;
 }
 
@@ -53,7 +55,7 @@ double ImplicitEulerNewton::residual(const Model& m, double h, const Matrix3X& v
   m_force.setZero();
   add_spring_forces(m.springs, m_x, m_zero, m_force, m_buf);
   add_jacobian_product(m.springs, m_lin0, v, 0.0, 1.0, m_force, m_buf);
-  m_force -= m.air_drag * v;
+  m.add_drag(v, m_force);
   for (int r = 0; r < 3; ++r) m_force.row(r) += m.gravity[r] * m.mass.transpose();
   // rhs = -grad Phi = h f - M (v - v0), zero on held axes
   for (int r = 0; r < 3; ++r)

@@ -1,5 +1,6 @@
 #include "cloth/mass_spring_cloth.hpp"
 
+#include "cloth/colliders.hpp"
 #include "cloth/sphere_collision.hpp"
 #include "cloth/spring_forces.hpp"
 #include "cloth/xpbd.hpp"
@@ -35,11 +36,8 @@ double MassSpringCloth::accelerations(const Matrix3X& x, const Matrix3X& v, Matr
   ++m_counters.force_evals;
   m_force.setZero();
   double power = add_spring_forces(m_model.springs, x, v, m_force, m_buf);
-  const double drag = m_model.air_drag;
-  if (drag != 0.0) {
-    m_force -= drag * v;
-    power += drag * v.squaredNorm();
-  }
+  m_model.add_drag(v, m_force);
+  power += m_model.drag_power(v);
   // a = f / m + g on free axes only
   for (int r = 0; r < 3; ++r) {
     a.row(r) = (m_force.row(r).array() * m_model.inv_mass.transpose().array() + m_model.gravity[r])
@@ -72,6 +70,18 @@ double MassSpringCloth::step_rk4(double h) {
 }
 
 void MassSpringCloth::step(double h) {
+  // handles: their particles carry the path's velocity over the step (held axes keep it)
+  if (!m_model.handles.empty()) start_handles(h);
+  if (!m_model.shapes.empty()) m_x_start = m_x;  // friction shortens the step's travel
+  integrate(h);
+  m_t += h;
+  ++m_counters.steps;
+  if (!m_model.handles.empty()) finish_handles(h);
+  // a scene without colliders skips the contact pass altogether
+  if (!m_model.spheres.empty() || !m_model.shapes.empty()) resolve_contacts(h);
+}
+
+void MassSpringCloth::integrate(double h) {
   double dissipated = 0.0;
   switch (m_options.integrator) {
     case Integrator::explicit_euler: {
@@ -110,15 +120,14 @@ void MassSpringCloth::step(double h) {
       break;
     case Integrator::implicit_euler: {
       step_implicit_euler(h);
-      dissipated =
-          h * (damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
+      dissipated = h * (damping_power(m_model.springs, m_x, m_v) + m_model.drag_power(m_v));
       break;
     }
     case Integrator::imex_euler: {
       step_imex_euler(h);
       // booked as the Bullet adapters book it: the damping power of the new state
       dissipated =
-          h * (damping_power(m_model.springs, m_x, m_v) + m_model.air_drag * m_v.squaredNorm());
+          h * (damping_power(m_model.springs, m_x, m_v) + m_model.drag_power(m_v));
       break;
     }
     case Integrator::xpbd:
@@ -128,20 +137,60 @@ void MassSpringCloth::step(double h) {
       dissipated = m_projective->step(m_model, m_options, h, m_x, m_v, m_counters);
       break;
   }
-  m_t += h;
-  ++m_counters.steps;
   m_dissipated += dissipated;
-  // a scene without spheres skips the contact pass altogether
-  if (!m_model.spheres.empty()) resolve_contacts();
 }
 
-void MassSpringCloth::resolve_contacts() {
+double MassSpringCloth::handle_power() {
+  // the holder's force cancels every other force on a handle particle, which does not accelerate
+  ++m_counters.force_evals;
+  m_force.setZero();
+  add_spring_forces(m_model.springs, m_x, m_v, m_force, m_buf);
+  m_model.add_drag(m_v, m_force);
+  double power = 0.0;
+  for (const Handle& hd : m_model.handles)
+    for (int p : hd.particles)
+      power -= (m_force.col(p) + m_model.mass[p] * m_model.gravity).dot(m_v.col(p));
+  return power;
+}
+
+void MassSpringCloth::start_handles(double h) {
+  double work = 0.0;
+  for (const Handle& hd : m_model.handles) {
+    const Vector3 v = (hd.motion.displacement(m_t + h) - hd.motion.displacement(m_t)) / h;
+    for (int p : hd.particles) {
+      // the holder changes the particle's kinetic energy at once
+      work += 0.5 * m_model.mass[p] * (v.squaredNorm() - m_v.col(p).squaredNorm());
+      m_v.col(p) = v;
+    }
+  }
+  // the trapezoidal rule on the holder's power over the step, its first half here
+  m_contact_work += work + 0.5 * h * handle_power();
+}
+
+void MassSpringCloth::finish_handles(double h) {
+  // exactly on the path, whatever the round-off of x += h v
+  for (const Handle& hd : m_model.handles) {
+    const Vector3 d = hd.motion.displacement(m_t);
+    for (int p : hd.particles) m_x.col(p) = m_model.x0.col(p) + d;
+  }
+  m_contact_work += 0.5 * h * handle_power();
+}
+
+void MassSpringCloth::resolve_contacts(double h) {
   // the state the integrator produced (the stage scratch is free between steps)
   m_x1 = m_x;
   m_v1 = m_v;
-  resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free);
-  m_counters.contact_tests +=
-      static_cast<std::int64_t>(m_model.spheres.size()) * m_model.particle_count();
+  ContactTally tally;
+  if (!m_model.spheres.empty()) {
+    resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free, &tally);
+    m_counters.contact_tests +=
+        static_cast<std::int64_t>(m_model.spheres.size()) * m_model.particle_count();
+  }
+  if (!m_model.shapes.empty())
+    m_counters.contact_tests += resolve_shape_contacts(m_model.shapes, m_t, h, m_x_start, m_x, m_v,
+                                                       m_model.free, m_model.mass, tally);
+  m_contacts = tally.contacts;
+  m_contact_impulse += tally.impulse;
   // kinetic and gravity parts particle by particle (no temporaries), so the difference
   // carries no round-off of the cloth's whole energy
   double work = 0.0;
@@ -179,7 +228,7 @@ void MassSpringCloth::step_implicit_euler(double h) {
     m_force.setZero();
     add_spring_forces(m.springs, m_x1, m_v1, m_force, m_buf);
     for (int r = 0; r < 3; ++r) m_force.row(r) += m.gravity[r] * m.mass.transpose();
-    if (drag != 0.0) m_force -= drag * m_v1;
+    m.add_drag(m_v1, m_force);
     // right-hand side
     m_rhs = h * m_force;
     // x0 + h vb - xb vanishes after the first iteration, where it is h v0
@@ -239,10 +288,14 @@ void MassSpringCloth::step_imex_euler(double h) {
   if (cg.relative_residual > m_options.cg_tolerance) ++m_counters.cg_unconverged;
   m_v += m_dv;
   m_x += h * m_v;
+  // m v' = m v - h drag (v' - wind), as the adapters solve it, free axes only
   if (m.air_drag != 0.0)
-    for (int r = 0; r < 3; ++r)
-      m_v.row(r) = m_v.row(r).cwiseQuotient(
-          (1.0 + h * m.air_drag * m.inv_mass.transpose().array()).matrix());
+    for (Eigen::Index p = 0; p < m_v.cols(); ++p) {
+      const double a = h * m.air_drag * m.inv_mass[p];
+      const Vector3 dragged = (m_v.col(p) + a * m.wind) / (1.0 + a);
+      m_v.col(p) = m.free.col(p).cwiseProduct(dragged) +
+                   (Vector3::Ones() - m.free.col(p)).cwiseProduct(m_v.col(p));
+    }
 }
 
 }  // namespace cloth

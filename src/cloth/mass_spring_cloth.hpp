@@ -30,6 +30,8 @@ class MassSpringCloth final : public Simulator {
   /// Work of the contact projection and velocity response, booked exactly every step.
   double contact_work() const override { return m_contact_work; }
   Counters counters() const override { return m_counters; }
+  int contacts() const override { return m_contacts; }
+  Vector3 contact_impulse() const override { return m_contact_impulse; }
 
   /// Replaces the state (tests start from chosen velocities). Held axes keep their values.
   /// @param x  3 by #P positions (m)
@@ -46,24 +48,35 @@ class MassSpringCloth final : public Simulator {
   double accelerations(const Matrix3X& x, const Matrix3X& v, Matrix3X& a);
 
  private:
+  /// One step of the integrator alone.
+  void integrate(double h);
   /// One classic Runge-Kutta step; returns the energy the dampers and drag took out (J).
   double step_rk4(double h);
   void step_implicit_euler(double h);
   void step_imex_euler(double h);
-  /// Resolves sphere contacts after a step and books their work in m_contact_work.
-  void resolve_contacts();
+  /// Resolves collider contacts after a step and books their work in m_contact_work.
+  void resolve_contacts(double h);
+  /// Gives the handle particles their path's velocity over the next step of h seconds.
+  void start_handles(double h);
+  /// Puts the handle particles exactly on their path at the step's end.
+  void finish_handles(double h);
+  /// Power (W) of the handles' holder at the current state; counts a force evaluation.
+  double handle_power();
 
   Model m_model;
   SolverOptions m_options;
   Matrix3X m_x, m_v;
   double m_t = 0;
   double m_dissipated = 0;    // J, dampers and drag
-  double m_contact_work = 0;  // J, net work of the contact response
+  double m_contact_work = 0;  // J, net work of the contact response and the handles
+  int m_contacts = 0;         // particle-collider contacts of the last contact pass
+  Vector3 m_contact_impulse = Vector3::Zero();  // N s, the colliders' impulse so far
   Counters m_counters;
 
   // scratch, sized once
   Matrix3X m_force, m_buf;
   Matrix3X m_x1, m_v1;                  // stage states
+  Matrix3X m_x_start;                   // positions at the step's start (scenes with shapes)
   Matrix3X m_k1, m_k2, m_k3, m_k4;      // stage accelerations
   Matrix3X m_rhs, m_dv, m_diag, m_tmp;  // implicit solve
   SpringLinearization m_lin;

@@ -63,10 +63,25 @@ Model build_model(const Scene& scene) {
           m.any_held = true;
         }
   }
+  for (const Handle& h : scene.handles)
+    for (int p : h.particles) {
+      if (p < 0 || p >= n)
+        throw std::invalid_argument("handle particle " + std::to_string(p) + " is not one of " +
+                                    std::to_string(n));
+      m.free.col(p).setZero();
+      m.any_held = true;
+    }
   m.springs = build_springs(c, m.x0);
   m.gravity = scene.gravity;
   m.air_drag = c.air_drag;
+  m.wind = scene.wind;
   m.spheres = scene.spheres;
+  m.shapes = scene.shapes;
+  for (HalfSpace& h : m.shapes.planes) {
+    if (!(h.normal.norm() > 0)) throw std::invalid_argument("a plane's normal must not be zero");
+    h.normal.normalize();
+  }
+  m.handles = scene.handles;
   return m;
 }
 

@@ -22,9 +22,24 @@ struct Model {
   SpringSet springs;
   Vector3 gravity = Vector3::Zero();  // m/s^2
   double air_drag = 0;                // N s/m
+  Vector3 wind = Vector3::Zero();     // m/s
   std::vector<Sphere> spheres;
+  Shapes shapes;
+  std::vector<Handle> handles;  // their particles are held on every axis in free
 
   int particle_count() const { return static_cast<int>(mass.size()); }
+  /// Adds the air drag -air_drag (v - wind) at velocities v (3 by #P, m/s) to f (N).
+  void add_drag(const Matrix3X& v, Matrix3X& f) const {
+    if (air_drag == 0.0) return;
+    f -= air_drag * v;
+    if (!wind.isZero())
+      for (int r = 0; r < 3; ++r) f.row(r).array() += air_drag * wind[r];
+  }
+  /// Power the air takes out of the cloth at velocities v (W): air_drag (v - wind) . v.
+  double drag_power(const Matrix3X& v) const {
+    if (air_drag == 0.0) return 0.0;
+    return air_drag * (v.squaredNorm() - (wind.isZero() ? 0.0 : wind.dot(v.rowwise().sum())));
+  }
 };
 
 /// Grid positions of the flat cloth described by c.

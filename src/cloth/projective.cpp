@@ -102,8 +102,11 @@ void ProjectiveSolver::add_velocity_forces(const Model& m, double h, const Matri
         rhs.col(a) -= pull;
       }
   }
-  // air drag -drag (x - x0) / h: implicit in the matrix's diagonal
-  if (m.air_drag != 0.0) rhs += (m.air_drag / h) * m_x0;
+  // air drag -drag ((x - x0) / h - wind): implicit in the matrix's diagonal
+  if (m.air_drag != 0.0) {
+    rhs += (m.air_drag / h) * m_x0;
+    if (!m.wind.isZero()) rhs.colwise() += m.air_drag * m.wind;
+  }
 }
 
 void ProjectiveSolver::add_projections(const Model& m, const Matrix3X& x, Matrix3X& rhs) const {
@@ -146,7 +149,7 @@ double ProjectiveSolver::step(const Model& m, const SolverOptions& o, double h, 
     ++counters.linear_solves;
   }
   v = (x - m_x0) / h;
-  return h * (damping_power(m.springs, x, v) + m.air_drag * v.squaredNorm());
+  return h * (damping_power(m.springs, x, v) + m.drag_power(v));
 }
 
 }  // namespace cloth

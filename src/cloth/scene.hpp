@@ -1,9 +1,11 @@
 #pragma once
 /// @file scene.hpp
-/// The physical scene every engine builds: one cloth grid, gravity, spheres and held axes.
+/// The physical scene every engine builds: one cloth grid, gravity, wind, rigid colliders
+/// (spheres, planes, boxes, capsules, cylinders), held axes and handles.
 /// Plain aggregates with defaults (the course report's default scene); the harness fills them
 /// from scenario files, the engines read them.
 
+#include <array>
 #include <vector>
 
 #include "cloth/types.hpp"
@@ -33,24 +35,94 @@ struct ClothParams {
   double air_drag = 0.0;        // N s/m, viscous drag on every particle
 };
 
-/// A sphere obstacle; kinematic when its velocity is not zero.
-struct Sphere {
-  Vector3 center = {0.0, 0.0, 0.0};    // m, at t = 0
-  double radius = 1.0;                 // m
-  double restitution = 0.0;            // C_R, 0 (no bounce) to 1 (elastic)
-  double friction = 0.0;               // Coulomb coefficient, 0: frictionless
-  Vector3 velocity = {0.0, 0.0, 0.0};  // m/s, prescribed
-  double margin = 0.01;                // m, contact shell thickness
+/// Prescribed rigid translation, the one mechanism of moving colliders and handles: a constant
+/// velocity, or a piecewise-linear path of displacements [t, dx, dy, dz] (times strictly
+/// increasing from 0, zero displacement at t = 0, held at the last displacement after it).
+struct Motion {
+  Vector3 velocity = {0.0, 0.0, 0.0};       // m/s, used when path is empty
+  std::vector<std::array<double, 4>> path;  // [s, m, m, m]
+
+  /// Displacement from the start at time t (s).
+  Vector3 displacement(double t) const;
+  /// Velocity at time t (s): the velocity of the path segment that starts at or before t.
+  Vector3 velocity_at(double t) const;
+  /// True when the motion ever moves.
+  bool moves() const { return !path.empty() || !velocity.isZero(); }
+};
+
+/// What every rigid collider has: its contact response and its motion. Infinitely heavy,
+/// never rotating.
+struct Collider : Motion {
+  double restitution = 0.0;  // C_R, 0 (no bounce) to 1 (elastic)
+  double friction = 0.0;     // Coulomb coefficient, 0: frictionless
+  double margin = 0.01;      // m, contact shell thickness
+};
+
+/// A sphere obstacle.
+struct Sphere : Collider {
+  Vector3 center = {0.0, 0.0, 0.0};  // m, at t = 0
+  double radius = 1.0;               // m
 
   /// Centre at time t (s).
-  Vector3 center_at(double t) const { return center + t * velocity; }
+  Vector3 center_at(double t) const { return center + displacement(t); }
+};
+
+/// A half-space: solid behind the plane through point with outward normal.
+struct HalfSpace : Collider {
+  Vector3 point = {0.0, 0.0, 0.0};   // m, at t = 0
+  Vector3 normal = {0.0, 1.0, 0.0};  // unit, out of the solid
+};
+
+/// An axis-aligned box.
+struct Box : Collider {
+  Vector3 center = {0.0, 0.0, 0.0};        // m, at t = 0
+  Vector3 half_extents = {0.5, 0.5, 0.5};  // m, each > 0
+};
+
+/// The points within radius of segment a-b.
+struct Capsule : Collider {
+  Vector3 a = {-1.0, 0.0, 0.0};  // m, at t = 0
+  Vector3 b = {1.0, 0.0, 0.0};   // m, at t = 0, not a
+  double radius = 0.05;          // m
+};
+
+/// A solid cylinder with its axis along y.
+struct Cylinder : Collider {
+  Vector3 center = {0.0, 0.0, 0.0};  // m, at t = 0
+  double radius = 0.1;               // m
+  double height = 0.02;              // m
+};
+
+/// The colliders other than spheres.
+struct Shapes {
+  std::vector<HalfSpace> planes;
+  std::vector<Box> boxes;
+  std::vector<Capsule> capsules;
+  std::vector<Cylinder> cylinders;
+
+  bool empty() const {
+    return planes.empty() && boxes.empty() && capsules.empty() && cylinders.empty();
+  }
+  /// Shapes in all.
+  std::size_t count() const {
+    return planes.size() + boxes.size() + capsules.size() + cylinders.size();
+  }
+};
+
+/// Particles moved exactly along a motion (all three axes held).
+struct Handle {
+  std::vector<int> particles;  // particle indices
+  Motion motion;
 };
 
 /// Everything an engine needs to build the same physical scene.
 struct Scene {
   ClothParams cloth;
   Vector3 gravity = {0.0, -9.8, 0.0};  // m/s^2
+  Vector3 wind = {0.0, 0.0, 0.0};      // m/s, air velocity for cloth.air_drag
   std::vector<Sphere> spheres;
+  Shapes shapes;
+  std::vector<Handle> handles;
   /// #P held-axis masks (AxisBits); empty means nothing is held.
   std::vector<std::uint8_t> held;
 

@@ -2,6 +2,7 @@
 /// @file simulator.hpp
 /// The interface every engine implements: the custom cloth and each Bullet adapter alike.
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -37,8 +38,15 @@ class Simulator {
   virtual double dissipated() const = 0;
   /// Net work of the contact response since the start (J): the energy it added (lifting
   /// particles out of an obstacle against gravity and springs) minus the energy it removed
-  /// (the normal velocity it cancels, friction); 0 for an engine that cannot separate it.
+  /// (the normal velocity it cancels, friction), and the work of the handles' holder;
+  /// 0 for an engine that cannot separate it.
   virtual double contact_work() const { return 0.0; }
+  /// Particle-collider contacts (particles within a collider's shell) at the last step; -1 for
+  /// an engine that cannot say.
+  virtual int contacts() const { return -1; }
+  /// Impulse the colliders have given the cloth since the start (N s); NaN for an engine that
+  /// cannot say.
+  virtual Vector3 contact_impulse() const { return Vector3::Constant(NAN); }
   /// Energy change the engine's books cannot attribute (J): for a Bullet engine, the whole
   /// energy balance of the steps in which a contact acted (its contact work and its scheme's
   /// error in that step, which Bullet does not report apart); 0 for the custom engine.

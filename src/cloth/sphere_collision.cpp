@@ -6,13 +6,15 @@
 namespace cloth {
 
 double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Matrix3X& x,
-                               Matrix3X& v, const VectorX& mass, const Matrix3X& free) {
+                               Matrix3X& v, const VectorX& mass, const Matrix3X& free,
+                               ContactTally* tally) {
   double removed = 0.0;
   const int n = static_cast<int>(x.cols());
   for (const Sphere& s : spheres) {
     const Vector3 c = s.center_at(t);
     const double shell = s.radius + s.margin;
     const double shell2 = shell * shell;
+    const Vector3 vs = s.velocity_at(t);
     for (int p = 0; p < n; ++p) {
       const Vector3 d = x.col(p) - c;
       const double dist2 = d.squaredNorm();
@@ -22,17 +24,19 @@ double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Mat
       const Vector3 nrm = dist > 0 ? Vector3(d / dist) : Vector3::UnitY();
       const Vector3 target = c + shell * nrm;
       x.col(p) += free.col(p).cwiseProduct(target - x.col(p));
+      if (tally) ++tally->contacts;
       // restitution and friction act on the velocity relative to the sphere
       const Vector3 vold = v.col(p);
-      const Vector3 vrel = vold - s.velocity;
+      const Vector3 vrel = vold - vs;
       const double vn = vrel.dot(nrm);
       if (vn >= 0) continue;
       Vector3 vt = vrel - vn * nrm;
       const double impulse = (1.0 + s.restitution) * (-vn);  // normal velocity change (m/s)
       const double vt_norm = vt.norm();
       if (s.friction > 0 && vt_norm > 0) vt *= std::max(0.0, 1.0 - s.friction * impulse / vt_norm);
-      const Vector3 vnew = s.velocity + vt - s.restitution * vn * nrm;
+      const Vector3 vnew = vs + vt - s.restitution * vn * nrm;
       v.col(p) += free.col(p).cwiseProduct(vnew - vold);
+      if (tally) tally->impulse += mass[p] * (v.col(p) - vold);
       removed += 0.5 * mass[p] * (vold.squaredNorm() - v.col(p).squaredNorm());
     }
   }

@@ -14,14 +14,23 @@
 
 namespace cloth {
 
+/// What a contact pass touched: counted only for the particles in contact, so that a pass
+/// over particles far from every collider costs nothing more.
+struct ContactTally {
+  int contacts = 0;                   // particle-collider contacts (within the shell)
+  Vector3 impulse = Vector3::Zero();  // N s, the colliders' impulse on the cloth
+};
+
 /// Resolves contact of every particle with every sphere at time t (s).
 /// @param x     3 by #P positions (m), moved out of the spheres
 /// @param v     3 by #P velocities (m/s), normal part replaced on approach
 /// @param mass  #P masses (kg)
 /// @param free  3 by #P, 1 for a free axis, 0 for a held one
+/// @param tally when given, counts the contacts and adds their impulse
 /// @return kinetic energy removed by the contacts (J; negative when a moving sphere adds some)
 double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Matrix3X& x,
-                               Matrix3X& v, const VectorX& mass, const Matrix3X& free);
+                               Matrix3X& v, const VectorX& mass, const Matrix3X& free,
+                               ContactTally* tally = nullptr);
 
 /// Deepest penetration below radius (m) of any particle into any sphere at time t; 0 if none.
 double max_penetration(const std::vector<Sphere>& spheres, double t, const Matrix3X& x);

@@ -59,10 +59,13 @@ double xpbd_step(const Model& m, const SolverOptions& o, double h, Matrix3X& x, 
   VectorX lambda(slots);
   double dissipated = 0.0;
   for (int s = 0; s < substeps; ++s) {
-    // gravity explicit, air drag implicit (v (1 + hs drag / m) = v0 + hs g), free axes only
+    // gravity explicit, air drag implicit (m v' = m (v0 + hs g) - hs drag (v' - wind)) on
+    // free axes; a held axis keeps its velocity (zero, or a handle's path velocity)
     for (Eigen::Index i = 0; i < x.cols(); ++i) {
-      const double shrink = 1.0 / (1.0 + hs * m.air_drag * m.inv_mass[i]);
-      v.col(i) = ((v.col(i) + hs * m.gravity) * shrink).cwiseProduct(m.free.col(i));
+      const double a = hs * m.air_drag * m.inv_mass[i];
+      const Vector3 moved = (v.col(i) + hs * m.gravity + a * m.wind) / (1.0 + a);
+      v.col(i) = m.free.col(i).cwiseProduct(moved) +
+                 (Vector3::Ones() - m.free.col(i)).cwiseProduct(v.col(i));
     }
     p = x + hs * v;
     lambda.setZero();
@@ -70,10 +73,11 @@ double xpbd_step(const Model& m, const SolverOptions& o, double h, Matrix3X& x, 
       project_springs(m, hs, p, x, lambda, counters);
       ++counters.force_evals;  // one sweep over every spring: the work of a force evaluation
     }
+    // a held axis moved exactly by its velocity in the prediction and no projection moves it
+    // (zero inverse mass), so x and v stay exact there
     v = (p - x) / hs;
-    // held axes: the prediction left them in place, so x and v stay exact
     x = p;
-    dissipated += hs * (damping_power(m.springs, x, v) + m.air_drag * v.squaredNorm());
+    dissipated += hs * (damping_power(m.springs, x, v) + m.drag_power(v));
   }
   return dissipated;
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cloth/colliders.hpp"
 #include "cloth/energies.hpp"
 #include "cloth/sphere_collision.hpp"
 #include "cloth/spring_forces.hpp"
@@ -90,7 +91,7 @@ FrameMetrics frame_metrics(const cloth::Model& model, double t, const Matrix3X& 
   m.mean_strain = s.mean_abs;
   m.com = (x * model.mass) / model.mass.sum();
   m.min_y = x.row(1).minCoeff();
-  m.max_penetration = cloth::max_penetration(model.spheres, t, x);
+  m.max_penetration = cloth::max_penetration(model.spheres, model.shapes, t, x);
   m.shadow_area = shadow_area(model, model.gravity, x);
   return m;
 }
@@ -133,7 +134,7 @@ double static_residual(const cloth::Model& model, double t, const Matrix3X& x, c
   if (!(g > 0)) return NAN;
   Matrix3X f = Matrix3X::Zero(3, x.cols()), buf(3, x.cols());
   cloth::add_spring_forces(model.springs, x, v, f, buf);
-  f -= model.air_drag * v;
+  model.add_drag(v, f);
   double worst = 0;
   for (int p = 0; p < static_cast<int>(x.cols()); ++p) {
     if (model.free.col(p).isZero()) continue;
@@ -160,13 +161,18 @@ Divergence divergence(const Matrix3X& x, const FrameMetrics& m, const Matrix3X& 
 }
 
 double support_area(const std::vector<double>& disk_radii,
-                    const std::vector<cloth::Sphere>& spheres, bool horizontal) {
+                    const std::vector<cloth::Sphere>& spheres, bool horizontal,
+                    const std::vector<cloth::Cylinder>& cylinders) {
   double a = 0.0;
   for (double r : disk_radii) a += M_PI * r * r;
   if (a > 0 || !horizontal) return a;
+  // a cylinder's top (the Cusick disk) is the support when there is one
+  for (const cloth::Cylinder& c : cylinders)
+    if (!c.moves()) a += M_PI * c.radius * c.radius;
+  if (a > 0) return a;
   // a sphere is a support only while it stays put under the cloth
   for (const cloth::Sphere& s : spheres)
-    if (s.velocity.isZero()) a += M_PI * s.radius * s.radius;
+    if (!s.moves()) a += M_PI * s.radius * s.radius;
   return a;
 }
 

@@ -3,6 +3,7 @@
 /// Per-frame metrics of one engine's state, and the divergence of two engines' states.
 /// Computed from positions and velocities alone, so every engine is measured the same way.
 
+#include <cmath>
 #include <vector>
 
 #include "cloth/model.hpp"
@@ -39,9 +40,12 @@ struct FrameMetrics {
   double mean_strain = 0;        // mean |l / l0 - 1|
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  // m, mass-weighted centre
   double min_y = 0;                               // m, lowest particle height
-  double max_penetration = 0;                     // m, deepest particle below a sphere's surface
+  double max_penetration = 0;                     // m, deepest particle below a collider's surface
   double shadow_area = 0;  // m^2, cloth shadow on the plane normal to gravity
   bool stable = true;
+  int contacts = -1;  // particles in contact at the frame's last step; -1: the engine cannot say
+  Eigen::Vector3d contact_force = Eigen::Vector3d::Constant(NAN);  // N, the colliders' push
+                                                                   // averaged over the frame
 };
 
 /// One row of divergence.csv (without the engine names).
@@ -105,12 +109,14 @@ double static_residual(const cloth::Model& model, double t, const cloth::Matrix3
 Divergence divergence(const cloth::Matrix3X& x, const FrameMetrics& m, const cloth::Matrix3X& x_ref,
                       const FrameMetrics& m_ref);
 
-/// Support area (m^2) under the cloth for the drape coefficient: the held disks of the table
-/// scene, else the cross-sections of the fixed spheres a horizontal cloth drapes over; 0 when
-/// the scene has no support (a vertical cloth, a sphere that moves), so no coefficient is given.
+/// Support area (m^2) under the cloth for the drape coefficient: held disks, else the tops of
+/// the fixed cylinders (the Cusick disk) under a horizontal cloth, else the cross-sections of
+/// the fixed spheres it drapes over; 0 when the scene has no support (a vertical cloth, a
+/// collider that moves), so no coefficient is given.
 /// @param horizontal  the cloth starts flat in the x-z plane
 double support_area(const std::vector<double>& disk_radii,
-                    const std::vector<cloth::Sphere>& spheres, bool horizontal);
+                    const std::vector<cloth::Sphere>& spheres, bool horizontal,
+                    const std::vector<cloth::Cylinder>& cylinders = {});
 
 /// Cusick drape coefficient (shadow - support) / (cloth - support).
 double drape_coefficient(double shadow, double support, double cloth_area);

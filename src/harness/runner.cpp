@@ -77,6 +77,29 @@ class EnergyTest {
   double m_e0 = 0;  // J
 };
 
+/// The contacts of a frame: how many particles touch a collider, and the colliders' impulse
+/// over the frame divided by its time (NaN and -1 for an engine that cannot say).
+class ContactMeter {
+ public:
+  explicit ContactMeter(const cloth::Simulator& sim)
+      : m_sim(sim), m_impulse(sim.contact_impulse()), m_t(sim.time()) {}
+  FrameMetrics read(FrameMetrics m) {
+    m.contacts = m_sim.contacts();
+    const Eigen::Vector3d now = m_sim.contact_impulse();
+    const double span = m_sim.time() - m_t;
+    m.contact_force =
+        span > 0 ? Eigen::Vector3d((now - m_impulse) / span) : Eigen::Vector3d(now * 0.0);
+    m_impulse = now;
+    m_t = m_sim.time();
+    return m;
+  }
+
+ private:
+  const cloth::Simulator& m_sim;
+  Eigen::Vector3d m_impulse;  // N s, at the last frame
+  double m_t;                 // s, of the last frame
+};
+
 }  // namespace
 
 EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
@@ -91,7 +114,6 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   const long long steps_per_check =
       std::clamp(std::llround(kEnergyCheckInterval / spec.dt), 1LL, steps_per_frame);
   EnergyTest energy_test(model, *sim, sc.blowup_energy);
-  const double e0 = energy_test.e0();
   auto fail = [&](const char* cause) {
     run.stable = false;
     run.cause = cause;
@@ -99,10 +121,11 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   };
 
   // frames sit on the exact grid k * frame_interval; a blow-up row at the failing step's time
+  ContactMeter contact(*sim);
   auto log_frame = [&](long long frame, bool stable) {
     const double t = stable ? double(frame) * sc.frame_interval : sim->time();
-    FrameMetrics m =
-        frame_metrics(model, t, sim->positions(), sim->velocities(), books_of(*sim), e0);
+    FrameMetrics m = contact.read(frame_metrics(model, t, sim->positions(), sim->velocities(),
+                                                books_of(*sim), energy_test.e0()));
     m.stable = stable;
     // a NaN energy error sticks (std::max would drop it and let the gate pass)
     if (stable && !std::isnan(run.max_energy_error) &&
@@ -230,8 +253,9 @@ double final_drape_coefficient(const RunResult& result, const EngineRun& run) {
   for (const ConstraintSpec& c : result.scenario.constraints)
     if (c.select == "disk") disks.push_back(c.disk_radius);
   const cloth::ClothParams& c = result.scenario.scene.cloth;
+  const cloth::Scene& scene = result.scenario.scene;
   const double support =
-      support_area(disks, result.scenario.scene.spheres, c.plane == cloth::Plane::xz);
+      support_area(disks, scene.spheres, c.plane == cloth::Plane::xz, scene.shapes.cylinders);
   const double cloth_area = c.size_u * c.size_v;
   if (support <= 0 || cloth_area <= support || run.frames.empty())
     return std::numeric_limits<double>::quiet_NaN();
@@ -270,6 +294,14 @@ void write_frames(const RunResult& result, CsvWriter& frames) {
       frames.add(m.total_energy).add(m.energy_error);
       frames.add(m.max_strain).add(m.mean_strain).add(m.com.x()).add(m.com.y()).add(m.com.z());
       frames.add(m.min_y).add(m.max_penetration).add(m.shadow_area).add(m.stable ? 1 : 0);
+      // an engine that cannot say leaves the contact columns empty
+      if (m.contacts < 0)
+        frames.skip().skip().skip().skip();
+      else
+        frames.add(m.contacts)
+            .add(m.contact_force.x())
+            .add(m.contact_force.y())
+            .add(m.contact_force.z());
       frames.end_row();
     }
 }
@@ -358,11 +390,14 @@ namespace {
 
 /// Writes the run's files into dir (ending with '/').
 void write_run_files(const RunResult& result, const std::string& dir) {
+  // clang-format off
   CsvWriter frames(
       dir + "frames.csv",
       {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
        "contact_work", "unbooked", "total_energy", "energy_error", "max_strain", "mean_strain",
-       "com_x", "com_y", "com_z", "min_y", "max_penetration", "shadow_area", "stable"});
+       "com_x", "com_y", "com_z", "min_y", "max_penetration", "shadow_area", "stable",
+       "contacts", "contact_fx", "contact_fy", "contact_fz"});
+  // clang-format on
   write_frames(result, frames);
   CsvWriter div(dir + "divergence.csv",
                 {"engine", "reference", "t", "rms_distance", "max_distance", "com_distance",

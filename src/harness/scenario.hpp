@@ -24,6 +24,12 @@ struct ConstraintSpec {
   std::vector<std::pair<int, int>> indices;  // select = "indices": (i, j) pairs
 };
 
+/// A handle: the particles a selection picks, moved along a motion.
+struct HandleSpec {
+  ConstraintSpec select;  // hold is always xyz
+  cloth::Motion motion;
+};
+
 /// One engine of a scenario.
 struct EngineSpec {
   std::string name;             // unique within the scenario
@@ -50,6 +56,7 @@ struct Scenario {
   std::string reference;           // engine the others are compared against ("" = the first)
   cloth::Scene scene;              // scene.held is filled from constraints
   std::vector<ConstraintSpec> constraints;
+  std::vector<HandleSpec> handles;  // scene.handles is filled from these
   std::vector<EngineSpec> engines;
   double max_run_seconds = 0;  // s of wall clock one engine run may take before it stops as
                                // a timeout (--max-run-seconds; 0: no limit; never in a file)

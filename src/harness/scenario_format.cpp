@@ -9,15 +9,23 @@
 namespace clothbench {
 
 const Keys kTopKeys = {
-    "name",          "description", "duration", "frame_interval", "snapshot_interval",
+    "name",          "description",   "duration",  "frame_interval", "snapshot_interval",
     "animation_interval",
-    "blowup_strain", "blowup_energy", "reference", "gravity", "cloth", "constraint",
-    "sphere",        "engine"};
+    "blowup_strain", "blowup_energy", "reference", "gravity",        "cloth",
+    "constraint",    "sphere",        "engine",    "wind",           "plane",
+    "box",           "capsule",       "cylinder",  "handle"};
 const Keys kClothKeys = {"particles",  "size",      "center",  "plane",   "particle_mass",
                          "total_mass", "stiffness", "damping", "air_drag"};
 const Keys kStiffnessKeys = {"structural", "shear", "bend"};
 const Keys kConstraintKeys = {"select", "hold", "center", "radius", "list"};
-const Keys kSphereKeys = {"center", "radius", "restitution", "friction", "velocity", "margin"};
+const Keys kSphereKeys = {"center",   "radius", "restitution", "friction",
+                          "velocity", "margin", "path"};
+const Keys kColliderKeys = {"restitution", "friction", "margin", "velocity", "path"};
+const Keys kPlaneKeys = {"point", "normal"};
+const Keys kBoxKeys = {"center", "half_extents"};
+const Keys kCapsuleKeys = {"a", "b", "radius"};
+const Keys kCylinderKeys = {"center", "radius", "height"};
+const Keys kHandleKeys = {"select", "center", "radius", "list", "path"};
 const Keys kEngineCommonKeys = {"name", "kind", "dt"};
 
 const Keys kPlanes = {"xz", "xy"};

@@ -22,6 +22,12 @@ extern const Keys kClothKeys;
 extern const Keys kStiffnessKeys;
 extern const Keys kConstraintKeys;
 extern const Keys kSphereKeys;
+extern const Keys kColliderKeys;  // keys every [[plane]], [[box]], [[capsule]], [[cylinder]] has
+extern const Keys kPlaneKeys;     // ... and each shape's own
+extern const Keys kBoxKeys;
+extern const Keys kCapsuleKeys;
+extern const Keys kCylinderKeys;
+extern const Keys kHandleKeys;
 extern const Keys kEngineCommonKeys;  // keys every [[engine]] may have
 
 // the values of the enumerated keys

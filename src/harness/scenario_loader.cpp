@@ -77,9 +77,10 @@ cloth::ClothParams read_cloth(const Reader& r, const toml::table* table) {
 }
 
 ConstraintSpec read_constraint(const Reader& r, const toml::table& t, const std::string& path,
-                               const cloth::ClothParams& cloth) {
+                               const cloth::ClothParams& cloth,
+                               const Keys& keys = kConstraintKeys) {
   const At at{t, path};
-  r.check_keys(at, kConstraintKeys);
+  r.check_keys(at, keys);
   ConstraintSpec c;
   c.select = r.choice(at, "select", c.select, kSelections);
   const std::string hold = r.string(at, "hold", hold_letters(c.hold));
@@ -140,17 +141,133 @@ ConstraintSpec read_constraint(const Reader& r, const toml::table& t, const std:
   return c;
 }
 
+/// A path = [[t, dx, dy, dz], ...]: times strictly increasing from 0, no displacement at 0.
+std::vector<std::array<double, 4>> read_path(const Reader& r, const At& at) {
+  const toml::node* n = at.table.get("path");
+  const toml::array* a = n->as_array();
+  if (!a || a->empty()) r.expected(*n, at.key("path"), "a non-empty array of [t, dx, dy, dz]");
+  std::vector<std::array<double, 4>> path;
+  for (size_t k = 0; k < a->size(); ++k) {
+    const toml::node& e = *a->get(k);
+    const std::string key = at.key("path") + "." + std::to_string(k);
+    const toml::array* row = e.as_array();
+    std::array<double, 4> p{};
+    for (size_t c = 0; row && row->size() == 4 && c < 4; ++c) {
+      const toml::node& x = *row->get(c);
+      const auto v =
+          x.is_integer() ? std::optional<double>(double(x.as_integer()->get())) : x.value<double>();
+      if (!v || !std::isfinite(*v))
+        row = nullptr;
+      else
+        p[c] = *v;
+    }
+    if (!row || row->size() != 4) r.expected(e, key, "[t, dx, dy, dz], 4 numbers (s, m, m, m)");
+    if (k == 0 && (p[0] != 0 || p[1] != 0 || p[2] != 0 || p[3] != 0))
+      r.expected(e, key, "the first point at [0, 0, 0, 0] (no displacement at t = 0)");
+    if (k > 0 && !(p[0] > path.back()[0]))
+      r.fail(&e, key,
+             "expected times strictly increasing, got t = " + toml_double(p[0]) +
+                 " s after t = " + toml_double(path.back()[0]) + " s");
+    path.push_back(p);
+  }
+  return path;
+}
+
+/// A velocity or a path, never both.
+cloth::Motion read_motion(const Reader& r, const At& at, bool velocity_key) {
+  cloth::Motion m;
+  const toml::node* v = velocity_key ? at.table.get("velocity") : nullptr;
+  const toml::node* p = at.table.get("path");
+  if (v && p)
+    r.fail(p, at.key("path"), "expected velocity or path, got both (give the motion one way)");
+  if (velocity_key) m.velocity = r.vec3(at, "velocity", m.velocity);
+  if (p) m.path = read_path(r, at);
+  return m;
+}
+
+/// The keys every collider has.
+void read_collider(const Reader& r, const At& at, cloth::Collider& c) {
+  static_cast<cloth::Motion&>(c) = read_motion(r, at, true);
+  c.restitution = r.number(at, "restitution", c.restitution, kUnitInterval);
+  c.friction = r.number(at, "friction", c.friction, kNonNegative);
+  c.margin = r.number(at, "margin", c.margin, kNonNegative);
+}
+
+/// Checks t's keys against a shape's own keys and the colliders' common ones.
+void check_shape_keys(const Reader& r, const At& at, const Keys& own) {
+  Keys keys = own;
+  keys.insert(keys.end(), kColliderKeys.begin(), kColliderKeys.end());
+  r.check_keys(at, keys);
+}
+
 cloth::Sphere read_sphere(const Reader& r, const toml::table& t, const std::string& path) {
   const At at{t, path};
   r.check_keys(at, kSphereKeys);
   cloth::Sphere s;
   s.center = r.vec3(at, "center", s.center);
   s.radius = r.number(at, "radius", s.radius, kPositive);
-  s.restitution = r.number(at, "restitution", s.restitution, kUnitInterval);
-  s.friction = r.number(at, "friction", s.friction, kNonNegative);
-  s.velocity = r.vec3(at, "velocity", s.velocity);
-  s.margin = r.number(at, "margin", s.margin, kNonNegative);
+  read_collider(r, at, s);
   return s;
+}
+
+cloth::HalfSpace read_plane(const Reader& r, const toml::table& t, const std::string& path) {
+  const At at{t, path};
+  check_shape_keys(r, at, kPlaneKeys);
+  cloth::HalfSpace s;
+  s.point = r.vec3(at, "point", s.point);
+  s.normal = r.vec3(at, "normal", s.normal);
+  if (!(s.normal.norm() > 0) || !std::isfinite(s.normal.norm()))
+    r.expected(*t.get("normal"), at.key("normal"), "a non-zero normal (out of the solid)");
+  read_collider(r, at, s);
+  return s;
+}
+
+cloth::Box read_box(const Reader& r, const toml::table& t, const std::string& path) {
+  const At at{t, path};
+  check_shape_keys(r, at, kBoxKeys);
+  cloth::Box s;
+  s.center = r.vec3(at, "center", s.center);
+  s.half_extents = r.vec3(at, "half_extents", s.half_extents);
+  if (!(s.half_extents.minCoeff() > 0))
+    r.expected(*t.get("half_extents"), at.key("half_extents"), "an array of 3 numbers > 0");
+  read_collider(r, at, s);
+  return s;
+}
+
+cloth::Capsule read_capsule(const Reader& r, const toml::table& t, const std::string& path) {
+  const At at{t, path};
+  check_shape_keys(r, at, kCapsuleKeys);
+  cloth::Capsule s;
+  s.a = r.vec3(at, "a", s.a);
+  s.b = r.vec3(at, "b", s.b);
+  if (!((s.b - s.a).squaredNorm() > 0))
+    r.fail(t.get("b") ? t.get("b") : &t, at.key("b"),
+           "expected b different from a (a capsule's axis), got both at [" + toml_double(s.a.x()) +
+               ", " + toml_double(s.a.y()) + ", " + toml_double(s.a.z()) + "]");
+  s.radius = r.number(at, "radius", s.radius, kPositive);
+  read_collider(r, at, s);
+  return s;
+}
+
+cloth::Cylinder read_cylinder(const Reader& r, const toml::table& t, const std::string& path) {
+  const At at{t, path};
+  check_shape_keys(r, at, kCylinderKeys);
+  cloth::Cylinder s;
+  s.center = r.vec3(at, "center", s.center);
+  s.radius = r.number(at, "radius", s.radius, kPositive);
+  s.height = r.number(at, "height", s.height, kPositive);
+  read_collider(r, at, s);
+  return s;
+}
+
+/// Every [[key]] table read by read.
+template <class T, class Read>
+std::vector<T> read_all(const Reader& r, const toml::table& root, const char* key, Read read) {
+  std::vector<T> out;
+  const auto tables = r.tables({root, ""}, key);
+  for (size_t k = 0; k < tables.size(); ++k)
+    out.push_back(read(r, *tables[k], std::string(key) + "." + std::to_string(k)));
+  return out;
 }
 
 /// The engine's name, kind and integrator; messages name it by index until its name is valid.
@@ -298,19 +415,63 @@ void read_header(const Reader& r, const toml::table& root, Scenario& s) {
   s.blowup_energy = r.number(at, "blowup_energy", s.blowup_energy, kPositive);
 }
 
-/// Gravity, the cloth, its constraints and the spheres.
+/// The [[handle]] tables: their particles, each in one handle and no [[constraint]].
+void read_handles(const Reader& r, const toml::table& root, Scenario& s) {
+  const auto tables = r.tables({root, ""}, "handle");
+  std::vector<int> owner(static_cast<size_t>(s.scene.particle_count()), -1);
+  std::vector<std::vector<std::uint8_t>> held_by;  // each constraint's mask
+  for (const ConstraintSpec& c : s.constraints) held_by.push_back(held_mask(s.scene.cloth, {c}));
+  for (size_t k = 0; k < tables.size(); ++k) {
+    const std::string path = "handle." + std::to_string(k);
+    const At at{*tables[k], path};
+    HandleSpec h;
+    h.select = read_constraint(r, *tables[k], path, s.scene.cloth, kHandleKeys);
+    h.motion = read_motion(r, at, false);
+    cloth::Handle handle;
+    handle.motion = h.motion;
+    const std::vector<std::uint8_t> mask = held_mask(s.scene.cloth, {h.select});
+    for (size_t p = 0; p < mask.size(); ++p) {
+      if (!mask[p]) continue;
+      const std::string which = "particle (" + std::to_string(p % size_t(s.scene.cloth.nu)) + ", " +
+                                std::to_string(p / size_t(s.scene.cloth.nu)) + ")";
+      const toml::node* blame_at = tables[k]->get("select") ? tables[k]->get("select") : tables[k];
+      for (size_t c = 0; c < s.constraints.size(); ++c)
+        if (held_by[c][p])
+          r.fail(blame_at, at.key("select"),
+                 "expected particles no [[constraint]] holds, got " + which +
+                     ", which constraint." + std::to_string(c) + " holds too");
+      if (owner[p] >= 0)
+        r.fail(blame_at, at.key("select"),
+               "expected particles no other handle moves, got " + which + ", which handle." +
+                   std::to_string(owner[p]) + " moves too");
+      owner[p] = static_cast<int>(k);
+      handle.particles.push_back(static_cast<int>(p));
+    }
+    s.handles.push_back(std::move(h));
+    s.scene.handles.push_back(std::move(handle));
+  }
+}
+
+/// Gravity, wind, the cloth, its constraints and handles, and the colliders.
 void read_scene(const Reader& r, const toml::table& root, Scenario& s) {
   const At at{root, ""};
   s.scene.gravity = r.vec3(at, "gravity", s.scene.gravity);
   s.scene.cloth = read_cloth(r, r.table(at, "cloth"));
+  s.scene.wind = r.vec3(at, "wind", s.scene.wind);
+  if (!s.scene.wind.isZero() && s.scene.cloth.air_drag == 0.0)
+    r.fail(root.get("wind"), "wind",
+           "expected cloth.air_drag > 0 with a wind (without air drag the wind does nothing)");
   const auto constraints = r.tables(at, "constraint");
   for (size_t k = 0; k < constraints.size(); ++k)
     s.constraints.push_back(
         read_constraint(r, *constraints[k], "constraint." + std::to_string(k), s.scene.cloth));
   s.scene.held = held_mask(s.scene.cloth, s.constraints);
-  const auto spheres = r.tables(at, "sphere");
-  for (size_t k = 0; k < spheres.size(); ++k)
-    s.scene.spheres.push_back(read_sphere(r, *spheres[k], "sphere." + std::to_string(k)));
+  read_handles(r, root, s);
+  s.scene.spheres = read_all<cloth::Sphere>(r, root, "sphere", read_sphere);
+  s.scene.shapes.planes = read_all<cloth::HalfSpace>(r, root, "plane", read_plane);
+  s.scene.shapes.boxes = read_all<cloth::Box>(r, root, "box", read_box);
+  s.scene.shapes.capsules = read_all<cloth::Capsule>(r, root, "capsule", read_capsule);
+  s.scene.shapes.cylinders = read_all<cloth::Cylinder>(r, root, "cylinder", read_cylinder);
 }
 
 /// Every [[engine]], with unique names and steps that divide the frame interval.

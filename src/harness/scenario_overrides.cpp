@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <optional>
 #include <vector>
 
 #include "cloth/scene.hpp"
@@ -97,6 +98,25 @@ size_t entry_index(toml::array* entries, const std::string& top, const std::stri
                           " [[" + top + "]], counted from 0");
 }
 
+/// The keys of one entry of the [[top]] array of tables; nullopt when top is not one.
+std::optional<Keys> entry_keys(const std::string& top) {
+  if (top == "constraint") return kConstraintKeys;
+  if (top == "sphere") return kSphereKeys;
+  if (top == "handle") return kHandleKeys;
+  if (top == "engine") return all_engine_keys();
+  const std::pair<const char*, const Keys*> shapes[] = {{"plane", &kPlaneKeys},
+                                                        {"box", &kBoxKeys},
+                                                        {"capsule", &kCapsuleKeys},
+                                                        {"cylinder", &kCylinderKeys}};
+  for (const auto& [name, own] : shapes) {
+    if (top != name) continue;
+    Keys k = *own;
+    k.insert(k.end(), kColliderKeys.begin(), kColliderKeys.end());
+    return k;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 void apply_override(toml::table& root, const std::string& text) {
@@ -156,7 +176,7 @@ void apply_override(toml::table& root, const std::string& text) {
     if (part[1] == "particle_mass") cloth.erase("total_mass");
     if (part[1] == "total_mass") cloth.erase("particle_mass");
     cloth.insert_or_assign(part[1], std::move(value));
-  } else if (top == "constraint" || top == "sphere" || top == "engine") {
+  } else if (const std::optional<Keys> known = entry_keys(top)) {
     toml::node* list = root.get(top);
     const size_t k = entry_index(list ? list->as_array() : nullptr, top, part[1], where);
     toml::array& entries = *list->as_array();
@@ -164,10 +184,7 @@ void apply_override(toml::table& root, const std::string& text) {
       entries.replace(entries.cbegin() + static_cast<std::ptrdiff_t>(k), std::move(value));
       return;
     }
-    const Keys known = top == "constraint" ? kConstraintKeys
-                       : top == "sphere"   ? kSphereKeys
-                                           : all_engine_keys();
-    if (!contains(known, part[2])) throw unknown(part[2], known, top + "." + part[1]);
+    if (!contains(*known, part[2])) throw unknown(part[2], *known, top + "." + part[1]);
     if (part.size() > 3) throw not_a_table(3);
     toml::table* entry = entries.get(k)->as_table();
     if (!entry) throw ScenarioError(where, "", top + "." + part[1] + " is not a table");

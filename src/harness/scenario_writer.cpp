@@ -33,6 +33,80 @@ void write_custom_options(std::ostream& o, const cloth::SolverOptions& so) {
     << "iterations = " << so.iterations << "  # xpbd (per substep), projective\n";
 }
 
+std::string vec3(const cloth::Vector3& v) {
+  return vec({v.x(), v.y(), v.z()});
+}
+
+/// A motion's key: velocity (when allowed and there is no path) or path.
+void write_motion(std::ostream& o, const cloth::Motion& m, bool velocity_key) {
+  if (m.path.empty()) {
+    if (velocity_key) o << "velocity = " << vec3(m.velocity) << "  # m/s\n";
+    return;
+  }
+  o << "path = [";
+  for (size_t k = 0; k < m.path.size(); ++k) {
+    const auto& p = m.path[k];
+    o << (k ? ", " : "") << vec({p[0], p[1], p[2], p[3]});
+  }
+  o << "]  # [s, m, m, m]\n";
+}
+
+/// The keys every collider has.
+void write_collider(std::ostream& o, const cloth::Collider& c) {
+  o << "restitution = " << toml_double(c.restitution) << "\n"
+    << "friction = " << toml_double(c.friction) << "\n"
+    << "margin = " << toml_double(c.margin) << "  # m\n";
+  write_motion(o, c, true);
+}
+
+/// A selection's keys, as [[constraint]] and [[handle]] write them.
+void write_selection(std::ostream& o, const ConstraintSpec& k) {
+  o << "select = " << toml_string(k.select) << "\n";
+  if (k.select == "disk")
+    o << "center = " << vec({k.disk_center_x, k.disk_center_z}) << "  # m\n"
+      << "radius = " << toml_double(k.disk_radius) << "  # m\n";
+  if (k.select == "indices") {
+    o << "list = [";
+    for (size_t p = 0; p < k.indices.size(); ++p)
+      o << (p ? ", " : "") << "[" << k.indices[p].first << ", " << k.indices[p].second << "]";
+    o << "]\n";
+  }
+}
+
+/// Handles, spheres and the other shapes.
+void write_colliders(std::ostream& o, const Scenario& s) {
+  for (const HandleSpec& h : s.handles) {
+    o << "\n[[handle]]\n";
+    write_selection(o, h.select);
+    write_motion(o, h.motion, false);
+  }
+  for (const cloth::Sphere& sp : s.scene.spheres) {
+    o << "\n[[sphere]]\ncenter = " << vec3(sp.center) << "  # m\n"
+      << "radius = " << toml_double(sp.radius) << "  # m\n";
+    write_collider(o, sp);
+  }
+  for (const cloth::HalfSpace& p : s.scene.shapes.planes) {
+    o << "\n[[plane]]\npoint = " << vec3(p.point) << "  # m\nnormal = " << vec3(p.normal) << "\n";
+    write_collider(o, p);
+  }
+  for (const cloth::Box& b : s.scene.shapes.boxes) {
+    o << "\n[[box]]\ncenter = " << vec3(b.center) << "  # m\n"
+      << "half_extents = " << vec3(b.half_extents) << "  # m\n";
+    write_collider(o, b);
+  }
+  for (const cloth::Capsule& c : s.scene.shapes.capsules) {
+    o << "\n[[capsule]]\na = " << vec3(c.a) << "  # m\nb = " << vec3(c.b) << "  # m\n"
+      << "radius = " << toml_double(c.radius) << "  # m\n";
+    write_collider(o, c);
+  }
+  for (const cloth::Cylinder& c : s.scene.shapes.cylinders) {
+    o << "\n[[cylinder]]\ncenter = " << vec3(c.center) << "  # m\n"
+      << "radius = " << toml_double(c.radius) << "  # m\nheight = " << toml_double(c.height)
+      << "  # m\n";
+    write_collider(o, c);
+  }
+}
+
 }  // namespace
 
 std::string scenario_to_toml(const Scenario& s) {
@@ -51,7 +125,8 @@ std::string scenario_to_toml(const Scenario& s) {
     << toml_string(!s.reference.empty() || s.engines.empty() ? s.reference : s.engines.front().name)
     << "\n";
   const cloth::Vector3& g = s.scene.gravity;
-  o << "gravity = " << vec({g.x(), g.y(), g.z()}) << "  # m/s^2\n";
+  o << "gravity = " << vec({g.x(), g.y(), g.z()}) << "  # m/s^2\n"
+    << "wind = " << vec3(s.scene.wind) << "  # m/s\n";
 
   const cloth::ClothParams& c = s.scene.cloth;
   o << "\n[cloth]\n"
@@ -69,29 +144,11 @@ std::string scenario_to_toml(const Scenario& s) {
     << "air_drag = " << d(c.air_drag) << "  # N s/m\n";
 
   for (const ConstraintSpec& k : s.constraints) {
-    o << "\n[[constraint]]\n"
-      << "select = " << toml_string(k.select) << "\n"
-      << "hold = " << toml_string(hold_letters(k.hold)) << "\n";
-    if (k.select == "disk")
-      o << "center = " << vec({k.disk_center_x, k.disk_center_z}) << "  # m\n"
-        << "radius = " << d(k.disk_radius) << "  # m\n";
-    if (k.select == "indices") {
-      o << "list = [";
-      for (size_t p = 0; p < k.indices.size(); ++p)
-        o << (p ? ", " : "") << "[" << k.indices[p].first << ", " << k.indices[p].second << "]";
-      o << "]\n";
-    }
+    o << "\n[[constraint]]\n";
+    write_selection(o, k);
+    o << "hold = " << toml_string(hold_letters(k.hold)) << "\n";
   }
-
-  for (const cloth::Sphere& sp : s.scene.spheres) {
-    o << "\n[[sphere]]\n"
-      << "center = " << vec({sp.center.x(), sp.center.y(), sp.center.z()}) << "  # m\n"
-      << "radius = " << d(sp.radius) << "  # m\n"
-      << "restitution = " << d(sp.restitution) << "\n"
-      << "friction = " << d(sp.friction) << "\n"
-      << "velocity = " << vec({sp.velocity.x(), sp.velocity.y(), sp.velocity.z()}) << "  # m/s\n"
-      << "margin = " << d(sp.margin) << "  # m\n";
-  }
+  write_colliders(o, s);
 
   for (const EngineSpec& e : s.engines) {
     o << "\n[[engine]]\n"

@@ -118,11 +118,29 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
   write_run(run_small(), dir.string());
 
   const Csv frames = read_csv(dir / "frames.csv");
-  CHECK(frames.header ==
-        std::vector<std::string>{"engine", "t", "kinetic", "gravity_potential", "elastic_potential",
-                                 "dissipated", "contact_work", "unbooked", "total_energy",
-                                 "energy_error", "max_strain", "mean_strain", "com_x", "com_y",
-                                 "com_z", "min_y", "max_penetration", "shadow_area", "stable"});
+  CHECK(frames.header == std::vector<std::string>{"engine",
+                                                  "t",
+                                                  "kinetic",
+                                                  "gravity_potential",
+                                                  "elastic_potential",
+                                                  "dissipated",
+                                                  "contact_work",
+                                                  "unbooked",
+                                                  "total_energy",
+                                                  "energy_error",
+                                                  "max_strain",
+                                                  "mean_strain",
+                                                  "com_x",
+                                                  "com_y",
+                                                  "com_z",
+                                                  "min_y",
+                                                  "max_penetration",
+                                                  "shadow_area",
+                                                  "stable",
+                                                  "contacts",
+                                                  "contact_fx",
+                                                  "contact_fy",
+                                                  "contact_fz"});
   std::map<std::string, int> rows_per_engine;
   double e0 = 0, rk4_worst = 0;
   for (size_t r = 0; r < frames.rows.size(); ++r) {

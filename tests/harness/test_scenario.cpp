@@ -233,8 +233,10 @@ TEST_CASE("every shipped scenario loads, named after its file", "[scenario]") {
   const auto files = toml_files(kSource / "scenarios");
   std::vector<std::string> names;
   for (const fs::path& f : files) names.push_back(f.stem().string());
-  CHECK(names == std::vector<std::string>{"curtain", "flag", "free_fall", "hanging_chain",
-                                          "seed_sphere_drape", "sphere_sweep", "table"});
+  CHECK(names == std::vector<std::string>{"curtain", "flag", "flag_wind", "floor_drop", "free_fall",
+                                          "hanging_chain", "incline", "lift_corners",
+                                          "seed_sphere_drape", "sphere_sweep", "table",
+                                          "tablecloth", "towel_rail"});
   for (const fs::path& file : files) {
     INFO(file.filename().string());
     const Scenario s = load_scenario(file.string());
@@ -270,20 +272,22 @@ TEST_CASE("shipped scenarios hold the particles their comments describe", "[scen
     for (int i = 0; i < c.nu; ++i) top.emplace_back(i, c.nv - 1);
     CHECK(held_with(c, s.scene.held, cloth::kHoldY | cloth::kHoldZ) == top);
   }
-  SECTION("table: a disk of particles around the centre, held in y") {
+  SECTION("table: nothing held, the cloth resting on the Cusick disk's contact shell") {
     const Scenario s = load("table");
     const auto& c = s.scene.cloth;
-    const cloth::Matrix3X x = cloth::grid_positions(c);
-    const double r = s.constraints.at(0).disk_radius;
-    int held = 0;
-    for (int p = 0; p < s.scene.particle_count(); ++p) {
-      const bool inside = std::hypot(x(0, p), x(2, p)) <= r;
-      CHECK(s.scene.held[static_cast<size_t>(p)] == (inside ? cloth::kHoldY : 0));
-      held += inside;
-    }
-    // the disk's share of the grid's particles is about its share of the area
-    const double share = std::acos(-1.0) * r * r / (c.size_u * c.size_v);
-    CHECK(double(held) / s.scene.particle_count() == Approx(share).epsilon(0.15));
+    CHECK(held_with(c, s.scene.held, 0).size() == static_cast<size_t>(s.scene.particle_count()));
+    REQUIRE(s.scene.shapes.cylinders.size() == 1);
+    const cloth::Cylinder& disk = s.scene.shapes.cylinders[0];
+    CHECK(disk.radius == 0.15);
+    CHECK(disk.center.y() + 0.5 * disk.height + disk.margin == Approx(c.center.y()));
+  }
+  SECTION("lift_corners: two corners of the edge j = 0 in a handle, nothing else held") {
+    const Scenario s = load("lift_corners");
+    const auto& c = s.scene.cloth;
+    REQUIRE(s.scene.handles.size() == 1);
+    CHECK(s.scene.handles[0].particles ==
+          std::vector<int>{0, cloth::particle_index(c, c.nu - 1, 0)});
+    CHECK(held_with(c, s.scene.held, 0).size() == static_cast<size_t>(s.scene.particle_count()));
   }
   SECTION("hanging_chain: a 1 x N chain of structural springs, the top particle pinned") {
     const Scenario s = load("hanging_chain");
