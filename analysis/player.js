@@ -131,10 +131,31 @@
     var meshes = [];
     s.shapes.forEach(function (sh) {
       var g = null;
+      var m = null;
       if (sh.type === "sphere") g = new THREE.SphereGeometry(sh.radius, 40, 24);
       else if (sh.type === "box" && sh.half_extents)
         g = new THREE.BoxGeometry(2 * sh.half_extents[0], 2 * sh.half_extents[1], 2 * sh.half_extents[2]);
-      var m = g ? new THREE.Mesh(g, colliderMat) : new THREE.Object3D();
+      else if (sh.type === "cylinder") g = new THREE.CylinderGeometry(sh.radius, sh.radius, sh.height, 48);
+      if (sh.type === "plane" || sh.type === "capsule") {
+        // a plane as a 6 m square about its point, a capsule as a cylinder between two caps,
+        // each turned from the y axis onto its normal or axis
+        var dir = new THREE.Vector3().fromArray(sh.type === "plane" ? sh.normal : sh.axis);
+        var len = dir.length();
+        m = new THREE.Object3D();
+        if (sh.type === "plane") {
+          var sq = new THREE.Mesh(new THREE.BoxGeometry(6, 0.002, 6), colliderMat);
+          m.add(sq);
+        } else {
+          m.add(new THREE.Mesh(new THREE.CylinderGeometry(sh.radius, sh.radius, len, 32), colliderMat));
+          [-0.5, 0.5].forEach(function (f) {
+            var cap = new THREE.Mesh(new THREE.SphereGeometry(sh.radius, 24, 16), colliderMat);
+            cap.position.set(0, f * len, 0);
+            m.add(cap);
+          });
+        }
+        m.quaternion.setFromUnitVectors(new THREE.Vector3(0, 1, 0), dir.normalize());
+      }
+      if (!m) m = g ? new THREE.Mesh(g, colliderMat) : new THREE.Object3D();
       sc.add(m);
       meshes.push(m);
     });

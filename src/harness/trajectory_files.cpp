@@ -57,13 +57,49 @@ std::vector<float> engine_values(const EngineRun& run, const Grid& g, size_t* fr
   return v;
 }
 
-/// Every collider's position at every trajectory frame (frame by shape by axis).
+/// One collider of the trajectory: its motion, its reference point at t = 0 (a sphere's,
+/// box's or cylinder's centre, a plane's point, a capsule's midpoint) and its JSON entry.
+struct ShapeEntry {
+  const cloth::Motion* motion;
+  cloth::Vector3 origin;
+  std::string json;
+};
+
+std::string vec_json(const cloth::Vector3& v) {
+  return "[" + format_double(v(0)) + ", " + format_double(v(1)) + ", " + format_double(v(2)) + "]";
+}
+
+/// Every collider, in the order of the scene: spheres, planes, boxes, capsules, cylinders.
+std::vector<ShapeEntry> shape_entries(const cloth::Scene& s) {
+  std::vector<ShapeEntry> out;
+  auto add = [&](const cloth::Collider& c, const cloth::Vector3& origin, std::string fields) {
+    out.push_back({&c, origin, "{" + fields + ", \"margin\": " + format_double(c.margin) + "}"});
+  };
+  for (const cloth::Sphere& x : s.spheres)
+    add(x, x.center, "\"type\": \"sphere\", \"radius\": " + format_double(x.radius));
+  for (const cloth::HalfSpace& x : s.shapes.planes)
+    add(x, x.point, "\"type\": \"plane\", \"normal\": " + vec_json(x.normal));
+  for (const cloth::Box& x : s.shapes.boxes)
+    add(x, x.center, "\"type\": \"box\", \"half_extents\": " + vec_json(x.half_extents));
+  for (const cloth::Capsule& x : s.shapes.capsules)
+    add(x, 0.5 * (x.a + x.b),
+        "\"type\": \"capsule\", \"axis\": " + vec_json(x.b - x.a) +
+            ", \"radius\": " + format_double(x.radius));
+  for (const cloth::Cylinder& x : s.shapes.cylinders)
+    add(x, x.center,
+        "\"type\": \"cylinder\", \"radius\": " + format_double(x.radius) +
+            ", \"height\": " + format_double(x.height));
+  return out;
+}
+
+/// Every collider's reference point at every trajectory frame (frame by shape by axis).
 std::vector<float> collider_values(const Scenario& sc, const Grid& g) {
+  const std::vector<ShapeEntry> shapes = shape_entries(sc.scene);
   std::vector<float> v;
   for (size_t k = 0; k < g.frames; ++k) {
     const double t = double(k) * double(g.stride) * sc.frame_interval;
-    for (const cloth::Sphere& s : sc.scene.spheres) {
-      const cloth::Vector3 c = s.center_at(t);
+    for (const ShapeEntry& s : shapes) {
+      const cloth::Vector3 c = s.origin + s.motion->displacement(t);
       for (int a = 0; a < 3; ++a) v.push_back(static_cast<float>(c(a)));
     }
   }
@@ -101,10 +137,8 @@ std::string index_json(const RunResult& result, const Grid& g,
       << ", \"cause\": \"" << (run.timed_out ? "timeout" : run.cause) << "\"}";
   }
   o << "\n  ],\n  \"colliders_file\": \"colliders.npy\",\n  \"shapes\": [";
-  for (size_t k = 0; k < sc.scene.spheres.size(); ++k)
-    o << (k ? "," : "")
-      << "\n    {\"type\": \"sphere\", \"radius\": " << format_double(sc.scene.spheres[k].radius)
-      << ", \"margin\": " << format_double(sc.scene.spheres[k].margin) << "}";
+  const std::vector<ShapeEntry> shapes = shape_entries(sc.scene);
+  for (size_t k = 0; k < shapes.size(); ++k) o << (k ? "," : "") << "\n    " << shapes[k].json;
   o << "\n  ],\n  \"held\": [";
   for (size_t p = 0, n = 0; p < sc.scene.held.size(); ++p)
     if (sc.scene.held[p]) o << (n++ ? ", " : "") << p;
@@ -132,7 +166,7 @@ void write_trajectories(const RunResult& result, const std::string& dir,
   }
   pending.push_back(std::make_unique<AtomicFile>(folder + "colliders.npy"));
   pending.back()->write(
-      npy_float32({g.frames, sc.scene.spheres.size(), 3}, collider_values(sc, g)));
+      npy_float32({g.frames, shape_entries(sc.scene).size(), 3}, collider_values(sc, g)));
   pending.push_back(std::make_unique<AtomicFile>(folder + "trajectory.json"));
   pending.back()->write(index_json(result, g, engine_frames));
 }
