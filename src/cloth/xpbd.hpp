@@ -11,8 +11,10 @@
 /// What it converges to: with the multipliers converged (many sweeps) each substep is a
 /// backward-Euler-like step of the compliant constraints, whose statics are the springs' (a
 /// hanging chain's stretch is m g / k per particle carried, to round-off from 32 sweeps on
-/// the test chain). At a fixed sweep count it does not converge to the spring ODE's solution
-/// as h -> 0: an unconverged sweep leaves a part of every constraint unsolved. With one sweep
+/// the test chain). At a fixed sweep count and a large step (k h^2 / m above 1) an unconverged
+/// sweep leaves part of every constraint unsolved, so the result depends on the sweep count;
+/// as h shrinks a sweep's contraction factor k h^2 / (m + k h^2) goes to 0 and the method
+/// converges at first order to the spring ODE's solution (README, the flag). With one sweep
 /// per substep the damping term's share of each projection puts the statics off by
 /// O(c h_s / m), first order in the substep (tests/cloth/test_methods.cpp).
 
