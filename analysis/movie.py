@@ -15,7 +15,7 @@ from matplotlib import animation
 
 from . import trajectory
 from .csvio import ReportError
-from .plots import style
+from .plots import colliders, style
 
 ELEV, AZIM = 22.0, -58.0   # degrees, the drape plot's view
 WIDTH_IN, DPI = 9.6, 100    # 960 px wide
@@ -34,13 +34,13 @@ def _panels(folders):
         tr = trajectory.Trajectory(f.path)
         for e in tr.index["engines"]:
             name = e["name"] if len(folders) == 1 else f"{e['name']} ({f.label})"
-            out.append((name, e, tr))
+            out.append((name, e, tr, f))
     return out
 
 
 def _box(panels):
     pts = []
-    for _, e, tr in panels:
+    for _, e, tr, _ in panels:
         x = tr.positions[e["name"]]
         if len(x):
             pts.append(x[np.all(np.abs(x) < 1e3, axis=-1)])
@@ -72,8 +72,8 @@ def write(folders, outdir, colors):
         ax.set_axis_off()
         ax.set_box_aspect((hi[0] - lo[0], hi[2] - lo[2], hi[1] - lo[1]), zoom=1.1)
         axes.append(ax)
-    interval = min(tr.interval for _, _, tr in panels)
-    frames = max(tr.index["frames"] for _, _, tr in panels)
+    interval = min(tr.interval for _, _, tr, _ in panels)
+    frames = max(tr.index["frames"] for _, _, tr, _ in panels)
     title = fig.suptitle("")
     fig.subplots_adjust(0, 0, 1, 0.93, 0.02, 0.08)
     u, v = np.meshgrid(np.linspace(0, 2 * math.pi, 24), np.linspace(0, math.pi, 13))
@@ -81,7 +81,7 @@ def write(folders, outdir, colors):
     def frame(k):
         t = k * interval
         title.set_text(f"{runs[0].name}: t = {t:.2f} s")
-        for ax, (name, e, tr) in zip(axes, panels):
+        for ax, (name, e, tr, folder) in zip(axes, panels):
             ax.clear()
             ax.set_axis_off()
             ax.set_xlim(lo[0], hi[0])
@@ -94,6 +94,7 @@ def write(folders, outdir, colors):
                     ax.plot_wireframe(c[0] + r * np.cos(u) * np.sin(v), c[2] + r * np.sin(u) * np.sin(v),
                                       np.clip(c[1] + r * np.cos(v), lo[1], None), color="0.6", lw=0.3,
                                       zorder=1)
+            colliders.draw_3d(ax, folder, t, (lo, hi))  # planes, boxes, capsules, cylinders
             x = tr.positions[e["name"]]
             ke = int(round(t / tr.interval))
             gone = ke > len(x) - 1

@@ -191,7 +191,7 @@ def section(folders, colors):
         '<span class="cb-text"></span></span></div>'
         '<div class="player-controls" id="player-engines">engines shown:</div>')
     note = ("Drag to orbit, shift-drag (or right-drag) to pan, wheel to zoom: every view shares "
-            "one camera. Grey spheres are the colliders, black dots the held particles. An engine "
+            "one camera. Grey shapes are the colliders (spheres, planes, boxes, capsules, cylinders), black dots the held particles. An engine "
             "that blew up keeps its last stable shape, greyed, from its blow-up time (✕ on the "
             "timeline). The address bar keeps the view: report.html#t=1.5&amp;color=distance&amp;"
             "layout=grid&amp;engines=a,b opens it again.")
