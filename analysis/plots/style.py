@@ -28,8 +28,10 @@ plt.rcParams.update({
     "svg.fonttype": "none",
 })
 
-# tab10 without its red, which marks blow-ups and tolerances
-_PALETTE = [c for k, c in enumerate(plt.get_cmap("tab10").colors) if k != 3]
+# tab10 without its red, which marks blow-ups and tolerances, then the light shades of the same
+# hues (tab20's odd entries, light red left out too): 18 distinct colours before one repeats
+_PALETTE = ([c for k, c in enumerate(plt.get_cmap("tab10").colors) if k != 3] +
+            [c for k, c in enumerate(plt.get_cmap("tab20").colors) if k % 2 == 1 and k != 7])
 
 
 class Colors:
