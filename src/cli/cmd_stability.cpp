@@ -10,10 +10,10 @@
 #include "exit_codes.hpp"
 #include "harness/output_lock.hpp"
 #include "harness/stability_files.hpp"
-#include "option_checks.hpp"
 #include "harness/stability_sweep.hpp"
-#include "scenario_input.hpp"
 #include "harness/summaries.hpp"
+#include "option_checks.hpp"
+#include "scenario_input.hpp"
 
 namespace clothbench::cli {
 namespace {
@@ -23,7 +23,7 @@ struct StabilityArgs {
   std::vector<std::string> overrides;  // --set KEY=VALUE
   bool quiet = false;
   double max_run_seconds = 0;  // s, 0: no limit
-  StabilityOptions options;  // out_dir empty: out/<scenario name>
+  StabilityOptions options;    // out_dir empty: out/<scenario name>
 };
 
 int execute_stability(StabilityArgs a) {

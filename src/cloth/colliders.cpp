@@ -111,16 +111,10 @@ void resolve_each(const std::vector<Shape>& shapes, double t, double h, const Ma
       ++tally.contacts;
       // restitution and friction act on the velocity relative to the collider
       const Vector3 vold = v.col(p);
-      const Vector3 vrel = vold - vs;
-      const double vn = vrel.dot(nrm);
-      if (vn >= 0) continue;
-      Vector3 vt = vrel - vn * nrm;
-      const double impulse = (1.0 + s.restitution) * (-vn);  // normal velocity change (m/s)
-      const double vt_norm = vt.norm();
-      double keep = 1.0;  // the fraction of the tangential velocity friction leaves
-      if (s.friction > 0 && vt_norm > 0) keep = std::max(0.0, 1.0 - s.friction * impulse / vt_norm);
-      vt *= keep;
-      v.col(p) += free.col(p).cwiseProduct(vs + vt - s.restitution * vn * nrm - vold);
+      if ((vold - vs).dot(nrm) >= 0) continue;  // not approaching
+      const ContactVelocity cv = contact_velocity(vold, vs, nrm, s);
+      const double keep = cv.keep;
+      v.col(p) += free.col(p).cwiseProduct(cv.v - vold);
       tally.impulse += mass[p] * (v.col(p) - vold);
       // friction shortens the step's travel along the surface alike, so that a sticking
       // particle stays put on the collider

@@ -35,8 +35,8 @@ struct CgWorkspace {
 /// @param x             3 by #P solution, starts at zero
 template <class Apply, class Precondition>
 CgResult filtered_pcg_with(Apply&& apply, Precondition&& precondition, const Matrix3X& b,
-                      const Matrix3X& filter, Matrix3X& x, CgWorkspace& ws, double tolerance,
-                      int max_iterations) {
+                           const Matrix3X& filter, Matrix3X& x, CgWorkspace& ws, double tolerance,
+                           int max_iterations) {
   auto dot = [](const Matrix3X& a, const Matrix3X& c) { return (a.array() * c.array()).sum(); };
   x.setZero();
   ws.r = b.cwiseProduct(filter);

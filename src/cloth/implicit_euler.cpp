@@ -21,11 +21,10 @@ LinearSolver resolved_linear_solver(LinearSolver s) {
 
 ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o)
     : m_matrix(m),
-      m_solver(resolved_linear_solver(o.linear_solver),
-               3 * Eigen::Index(m.particle_count())) {
+      m_solver(resolved_linear_solver(o.linear_solver), 3 * Eigen::Index(m.particle_count())) {
   const Eigen::Index n = m.particle_count();
-  for (Matrix3X* a : {&m_x0, &m_v0, &m_v, &m_x, &m_trial, &m_dv, &m_force, &m_damp, &m_zero,
-                      &m_buf, &m_rhs})
+  for (Matrix3X* a :
+       {&m_x0, &m_v0, &m_v, &m_x, &m_trial, &m_dv, &m_force, &m_damp, &m_zero, &m_buf, &m_rhs})
     a->setZero(3, n);
   m_history.reserve(static_cast<size_t>(o.newton_iterations) + 1);
 }
@@ -63,7 +62,8 @@ double ImplicitEulerNewton::residual(const Model& m, double h, const Matrix3X& v
   m_rhs = (m.free.array() > 0.0).select(m_rhs, 0.0);
   double worst = 0.0;
   for (int r = 0; r < 3; ++r)
-    worst = std::max(worst, m_rhs.row(r).cwiseProduct(m.inv_mass.transpose()).cwiseAbs().maxCoeff());
+    worst =
+        std::max(worst, m_rhs.row(r).cwiseProduct(m.inv_mass.transpose()).cwiseAbs().maxCoeff());
   return worst;
 }
 
@@ -101,8 +101,8 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double h,
     m_x = m_x0 + h * m_v;
     linearize_springs(m.springs, m_x, o.clamp_compressed, m_lin);
     m_matrix.assemble(m, m_lin, m_lin0, h);
-    const CgResult cg = m_solver.solve(m, m_matrix, m_lin, m_lin0, h, m_rhs, m_dv,
-                                       o.cg_tolerance, o.cg_max_iterations);
+    const CgResult cg = m_solver.solve(m, m_matrix, m_lin, m_lin0, h, m_rhs, m_dv, o.cg_tolerance,
+                                       o.cg_max_iterations);
     counters.cg_iterations += cg.iterations;
     if (cg.relative_residual > o.cg_tolerance) ++counters.cg_unconverged;
     m_dv = (m.free.array() > 0.0).select(m_dv, 0.0);

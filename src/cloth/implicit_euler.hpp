@@ -3,7 +3,8 @@
 /// Backward Euler by Newton's method on the step's incremental potential, with a backtracking
 /// line search (the "optimisation integrator" view). In velocities v (x = x0 + h v):
 ///
-///   Phi(v) = 1/2 |v - v0 - h g|_M^2 + E(x0 + h v) + h/2 (c sum_s (d0_s . (v_q - v_p))^2 + drag |v|^2)
+///   Phi(v) = 1/2 |v - v0 - h g|_M^2 + E(x0 + h v) + h/2 (c sum_s (d0_s . (v_q - v_p))^2 + drag
+///   |v|^2)
 ///
 /// E is the elastic energy, d0_s spring s's direction at the step's start. The last term is the
 /// Rayleigh potential of the spring dampers with their directions frozen at x0, the directions

@@ -126,12 +126,11 @@ void MassSpringCloth::integrate(double h) {
     case Integrator::imex_euler: {
       step_imex_euler(h);
       // booked as the Bullet adapters book it: the damping power of the new state
-      dissipated =
-          h * (damping_power(m_model.springs, m_x, m_v) + m_model.drag_power(m_v));
+      dissipated = h * (damping_power(m_model.springs, m_x, m_v) + m_model.drag_power(m_v));
       break;
     }
     case Integrator::xpbd:
-      dissipated = xpbd_step(m_model, m_options, h, m_x, m_v, m_x1, m_counters);
+      dissipated = xpbd_step(m_model, m_options, h, m_x, m_v, m_x1, m_lambda, m_counters);
       break;
     case Integrator::projective:
       dissipated = m_projective->step(m_model, m_options, h, m_x, m_v, m_counters);

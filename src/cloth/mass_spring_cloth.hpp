@@ -83,6 +83,7 @@ class MassSpringCloth final : public Simulator {
   CgWorkspace m_cg;
   std::unique_ptr<ImplicitEulerNewton> m_newton;   // implicit-euler with newton = line-search
   std::unique_ptr<ProjectiveSolver> m_projective;  // projective
+  VectorX m_lambda;                                // xpbd: the springs' multipliers
 };
 
 }  // namespace cloth

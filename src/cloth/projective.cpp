@@ -43,7 +43,8 @@ Triplets system_entries(const Model& m, double h) {
 }  // namespace
 
 ProjectiveSolver::ProjectiveSolver(const Model& m) {
-  for (Matrix3X* s : {&m_x0, &m_y, &m_rhs, &m_dir0}) s->setZero(3, m.particle_count());
+  for (Matrix3X* s : {&m_x0, &m_y, &m_rhs}) s->setZero(3, m.particle_count());
+  for (VectorX* s : {&m_held, &m_b, &m_solution}) s->setZero(m.particle_count());
 }
 
 ProjectiveSolver::~ProjectiveSolver() = default;
@@ -140,11 +141,14 @@ double ProjectiveSolver::step(const Model& m, const SolverOptions& o, double h, 
     ++counters.force_evals;  // the local step: one pass over every spring
     for (int r = 0; r < 3; ++r) {
       const Factor& f = *m_factors[size_t(m_factor_of_axis[r])];
-      const VectorX held_x = m_y.row(r).transpose().cwiseProduct(VectorX::Ones(x.cols()) - f.free);
-      VectorX b = m_rhs.row(r).transpose() - f.coupling * held_x;
-      for (Eigen::Index i = 0; i < b.size(); ++i)
-        if (f.free[i] == 0.0) b[i] = m_y(r, i);
-      x.row(r) = f.ldlt.solve(b).transpose();
+      // the held entries' pull moves to the right-hand side; their rows are the identity's
+      m_held = m_y.row(r).transpose().cwiseProduct(VectorX::Ones(x.cols()) - f.free);
+      m_b.noalias() = f.coupling * m_held;
+      m_b = m_rhs.row(r).transpose() - m_b;
+      for (Eigen::Index i = 0; i < m_b.size(); ++i)
+        if (f.free[i] == 0.0) m_b[i] = m_y(r, i);
+      m_solution = f.ldlt.solve(m_b);
+      x.row(r) = m_solution.transpose();
     }
     ++counters.linear_solves;
   }

@@ -42,7 +42,8 @@ class ProjectiveSolver {
   double m_h = 0;                                  // the step size the factors are for (s)
   std::vector<std::unique_ptr<Factor>> m_factors;  // one per distinct held-axis pattern
   int m_factor_of_axis[3] = {0, 0, 0};
-  Matrix3X m_x0, m_y, m_rhs, m_dir0;
+  Matrix3X m_x0, m_y, m_rhs;
+  VectorX m_held, m_b, m_solution;  // one axis of the global solve
 };
 
 }  // namespace cloth

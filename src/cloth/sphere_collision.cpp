@@ -27,15 +27,8 @@ double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Mat
       if (tally) ++tally->contacts;
       // restitution and friction act on the velocity relative to the sphere
       const Vector3 vold = v.col(p);
-      const Vector3 vrel = vold - vs;
-      const double vn = vrel.dot(nrm);
-      if (vn >= 0) continue;
-      Vector3 vt = vrel - vn * nrm;
-      const double impulse = (1.0 + s.restitution) * (-vn);  // normal velocity change (m/s)
-      const double vt_norm = vt.norm();
-      if (s.friction > 0 && vt_norm > 0) vt *= std::max(0.0, 1.0 - s.friction * impulse / vt_norm);
-      const Vector3 vnew = vs + vt - s.restitution * vn * nrm;
-      v.col(p) += free.col(p).cwiseProduct(vnew - vold);
+      if ((vold - vs).dot(nrm) >= 0) continue;  // not approaching
+      v.col(p) += free.col(p).cwiseProduct(contact_velocity(vold, vs, nrm, s).v - vold);
       if (tally) tally->impulse += mass[p] * (v.col(p) - vold);
       removed += 0.5 * mass[p] * (vold.squaredNorm() - v.col(p).squaredNorm());
     }

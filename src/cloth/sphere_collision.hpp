@@ -7,12 +7,37 @@
 /// -C_R times what it was (a fixed, infinitely heavy sphere), and Coulomb friction takes up to
 /// mu times the normal impulse from the tangential velocity. Held axes are left untouched.
 
+#include <algorithm>
 #include <vector>
 
 #include "cloth/scene.hpp"
 #include "cloth/types.hpp"
 
 namespace cloth {
+
+/// The report's velocity response of a particle in contact, relative to the collider's
+/// velocity: restitution on the approaching normal velocity, Coulomb friction on the
+/// tangential one as an impulse bounded by the friction coefficient times the normal impulse.
+struct ContactVelocity {
+  Vector3 v;          // the new velocity (m/s), before the held-axis mask
+  double keep = 1.0;  // the fraction of the tangential velocity friction left
+};
+
+/// The response of velocity vold at outward normal nrm against a collider moving at vs; for
+/// a particle that is not approaching the surface, vold unchanged (keep 1).
+inline ContactVelocity contact_velocity(const Vector3& vold, const Vector3& vs, const Vector3& nrm,
+                                        const Collider& c) {
+  const Vector3 vrel = vold - vs;
+  const double vn = vrel.dot(nrm);
+  if (vn >= 0) return {vold, 1.0};
+  Vector3 vt = vrel - vn * nrm;
+  const double impulse = (1.0 + c.restitution) * (-vn);  // normal velocity change (m/s)
+  const double vt_norm = vt.norm();
+  double keep = 1.0;
+  if (c.friction > 0 && vt_norm > 0) keep = std::max(0.0, 1.0 - c.friction * impulse / vt_norm);
+  vt *= keep;
+  return {vs + vt - c.restitution * vn * nrm, keep};
+}
 
 /// What a contact pass touched: counted only for the particles in contact, so that a pass
 /// over particles far from every collider costs nothing more.

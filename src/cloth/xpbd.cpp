@@ -51,12 +51,12 @@ void project_springs(const Model& m, double hs, Matrix3X& p, const Matrix3X& x, 
 }  // namespace
 
 double xpbd_step(const Model& m, const SolverOptions& o, double h, Matrix3X& x, Matrix3X& v,
-                 Matrix3X& p, Counters& counters) {
+                 Matrix3X& p, VectorX& lambda, Counters& counters) {
   const int substeps = o.substeps;
   const double hs = h / substeps;
   Eigen::Index slots = 0;
   for (const SpringFamily& fam : m.springs.families) slots += fam.slots();
-  VectorX lambda(slots);
+  lambda.resize(slots);  // a no-op after the first step
   double dissipated = 0.0;
   for (int s = 0; s < substeps; ++s) {
     // gravity explicit, air drag implicit (m v' = m (v0 + hs g) - hs drag (v' - wind)) on

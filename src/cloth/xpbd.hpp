@@ -27,7 +27,9 @@ namespace cloth {
 
 /// One XPBD step of h seconds on x and v (each 3 by #P); returns the energy the spring
 /// dampers and air drag took out (J), measured from each substep's end velocities.
+/// @param p       3 by #P scratch (the predicted positions)
+/// @param lambda  scratch for the springs' multipliers, sized on first use
 double xpbd_step(const Model& m, const SolverOptions& o, double h, Matrix3X& x, Matrix3X& v,
-                 Matrix3X& scratch, Counters& counters);
+                 Matrix3X& p, VectorX& lambda, Counters& counters);
 
 }  // namespace cloth

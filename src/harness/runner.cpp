@@ -425,7 +425,6 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   toml.commit();
   info.commit();
   for (auto& f : trajectory) f->commit();
-  remove_stale_trajectories(result, dir);
 }
 
 }  // namespace

@@ -4,7 +4,6 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
-#include <set>
 #include <sstream>
 
 namespace clothbench {
@@ -169,22 +168,6 @@ void write_trajectories(const RunResult& result, const std::string& dir,
       npy_float32({g.frames, shape_entries(sc.scene).size(), 3}, collider_values(sc, g)));
   pending.push_back(std::make_unique<AtomicFile>(folder + "trajectory.json"));
   pending.back()->write(index_json(result, g, engine_frames));
-}
-
-void remove_stale_trajectories(const RunResult& result, const std::string& dir) {
-  namespace fs = std::filesystem;
-  const fs::path folder = fs::path(dir) / "trajectory";
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec)) return;
-  if (!(result.scenario.animation_interval > 0)) {
-    fs::remove_all(folder, ec);
-    return;
-  }
-  std::set<std::string> written = {"colliders.npy", "trajectory.json"};
-  for (const EngineRun& run : result.runs) written.insert(run.spec.name + ".npy");
-  for (const fs::directory_entry& e : fs::directory_iterator(folder, ec))
-    if (e.path().extension() == ".npy" && !written.count(e.path().filename().string()))
-      fs::remove(e.path(), ec);
 }
 
 }  // namespace clothbench

@@ -21,11 +21,6 @@ namespace clothbench {
 void write_trajectories(const RunResult& result, const std::string& dir,
                         std::vector<std::unique_ptr<AtomicFile>>& pending);
 
-/// Removes what an earlier run left in dir/trajectory/ that this run did not write: .npy files
-/// of engines it did not run, or the whole folder when animation_interval is 0 (a report must
-/// never show an older run's motion). Call after the new files are committed.
-void remove_stale_trajectories(const RunResult& result, const std::string& dir);
-
 /// The bytes of a .npy file (format 1.0) holding a float32 array of the given shape, values
 /// in C order (little-endian host).
 std::string npy_float32(const std::vector<size_t>& shape, const std::vector<float>& values);
