@@ -1,5 +1,6 @@
 #include "cloth/implicit_euler.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "cloth/spring_forces.hpp"
@@ -21,7 +22,8 @@ LinearSolver resolved_linear_solver(LinearSolver s) {
 
 ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o)
     : m_matrix(m),
-      m_solver(resolved_linear_solver(o.linear_solver), 3 * Eigen::Index(m.particle_count())) {
+      m_solver(resolved_linear_solver(o.linear_solver), 3 * Eigen::Index(m.particle_count())),
+      m_direct(resolved_linear_solver(o.linear_solver) == LinearSolver::ldlt) {
   const Eigen::Index n = m.particle_count();
   for (Matrix3X* a :
        {&m_x0, &m_v0, &m_v, &m_x, &m_trial, &m_dv, &m_force, &m_damp, &m_zero, &m_buf, &m_rhs})
@@ -95,16 +97,25 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double h,
   m_phi = objective(m, h, m_v);
   m_history.clear();
   m_history.push_back(m_phi);
+  const bool adaptive = o.cg_forcing == CgForcing::adaptive;
+  double eta = adaptive ? std::max(o.cg_tolerance, kForcingMax) : o.cg_tolerance;
+  double residual_before = m_residual;
   for (int it = 0; it < o.newton_iterations && m_residual > o.newton_tolerance; ++it) {
     ++counters.newton_iterations;
+    if (adaptive && it > 0) eta = next_forcing(eta, m_residual / residual_before, o.cg_tolerance);
+    residual_before = m_residual;
     // newton system A dv = -grad Phi at the iterate
     m_x = m_x0 + h * m_v;
     linearize_springs(m.springs, m_x, o.clamp_compressed, m_lin);
-    m_matrix.assemble(m, m_lin, m_lin0, h);
-    const CgResult cg = m_solver.solve(m, m_matrix, m_lin, m_lin0, h, m_rhs, m_dv, o.cg_tolerance,
-                                       o.cg_max_iterations);
+    // the conjugate gradients apply A matrix-free and need only its diagonal blocks
+    if (m_direct)
+      m_matrix.assemble(m, m_lin, m_lin0, h);
+    else
+      m_matrix.assemble_diagonal_blocks(m, m_lin, m_lin0, h);
+    const CgResult cg =
+        m_solver.solve(m, m_matrix, m_lin, m_lin0, h, m_rhs, m_dv, eta, o.cg_max_iterations);
     counters.cg_iterations += cg.iterations;
-    if (cg.relative_residual > o.cg_tolerance) ++counters.cg_unconverged;
+    if (cg.relative_residual > eta) ++counters.cg_unconverged;
     m_dv = (m.free.array() > 0.0).select(m_dv, 0.0);
     double slope = m_dv.cwiseProduct(m_rhs).sum();
     // a step that does not descend (no clamp, or a failed solve): M^-1 times -grad Phi

@@ -52,6 +52,7 @@ class ImplicitEulerNewton {
   Matrix3X m_x0, m_v0, m_v, m_x, m_trial, m_dv, m_force, m_damp, m_zero, m_buf, m_rhs;
   std::vector<double> m_history;
   double m_phi = 0, m_residual = 0;
+  bool m_direct = false;  // ldlt: A assembled whole
 };
 
 }  // namespace cloth

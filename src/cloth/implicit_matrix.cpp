@@ -88,18 +88,56 @@ void ImplicitMatrix::assemble(const Model& m, const SpringLinearization& lin_k,
   });
   for (int k : m_held_zero) val[k] = 0.0;
   for (int k : m_held_one) val[k] = 1.0;
+  copy_diagonal_blocks();
+}
+
+void ImplicitMatrix::copy_diagonal_blocks() {
+  const Eigen::Index n = m_a.cols() / 3;
+  m_blocks.resize(3, 3 * n);
+  const double* val = m_a.valuePtr();
+  for (Eigen::Index p = 0; p < n; ++p)
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) m_blocks(r, 3 * p + c) = val[m_diag_slots[3 * p + c] + r];
+}
+
+void ImplicitMatrix::assemble_diagonal_blocks(const Model& m, const SpringLinearization& lin_k,
+                                              const SpringLinearization& lin_d, double h) {
+  const int n = m.particle_count();
+  m_blocks.setZero(3, 3 * Eigen::Index(n));
+  for (int p = 0; p < n; ++p)
+    m_blocks.middleCols<3>(3 * p).diagonal().setConstant(m.mass[p] + h * m.air_drag);
+  // each spring's block B = h^2 J + h c d0 d0^T on both ends' diagonal blocks
+  const double c_damp = m.springs.damping;
+  for (size_t fi = 0; fi < m.springs.families.size(); ++fi) {
+    const SpringFamily& fam = m.springs.families[fi];
+    const auto& L = lin_k.dirs[fi];
+    const auto& L0 = lin_d.dirs[fi];
+    const double hhk = h * h * fam.stiffness, hc = h * c_damp;
+    for (int p = 0; p < fam.slots(); ++p) {
+      if (fam.mask[p] == 0.0) continue;
+      const double b = L(3, p);
+      const Vector3 d = L.col(p).head<3>(), d0 = L0.col(p).head<3>();
+      const Matrix3 block = hhk * ((1.0 - b) * d * d.transpose() + b * Matrix3::Identity()) +
+                            hc * d0 * d0.transpose();
+      m_blocks.middleCols<3>(3 * p) += block;
+      m_blocks.middleCols<3>(3 * (p + fam.offset)) += block;
+    }
+  }
+  // held axes: identity row and column, as in assemble()
+  for (int p = 0; p < n; ++p)
+    for (int r = 0; r < 3; ++r)
+      if (m.free(r, p) == 0.0) {
+        m_blocks.row(r).segment<3>(3 * p).setZero();
+        m_blocks.col(3 * p + r).setZero();
+        m_blocks(r, 3 * p + r) = 1.0;
+      }
 }
 
 void ImplicitMatrix::diagonal_block_inverses(Eigen::Matrix<double, 3, Eigen::Dynamic>& inv) const {
-  const Eigen::Index n = m_a.cols() / 3;
+  const Eigen::Index n = m_blocks.cols() / 3;
   inv.resize(3, 3 * n);
-  const double* val = m_a.valuePtr();
-  for (Eigen::Index p = 0; p < n; ++p) {
-    Matrix3 block;
-    for (int c = 0; c < 3; ++c)
-      for (int r = 0; r < 3; ++r) block(r, c) = val[m_diag_slots[3 * p + c] + r];
-    inv.middleCols<3>(3 * p) = block.inverse();
-  }
+  for (Eigen::Index p = 0; p < n; ++p)
+    inv.middleCols<3>(3 * p) = m_blocks.middleCols<3>(3 * p).inverse();
 }
 
 }  // namespace cloth

@@ -28,15 +28,27 @@ class ImplicitMatrix {
   void assemble(const Model& m, const SpringLinearization& lin_k, const SpringLinearization& lin_d,
                 double h);
 
-  /// 3 #P by 3 #P, symmetric, both triangles stored.
+  /// Fills only A's 3 by 3 diagonal blocks for step h, all a preconditioner needs (the
+  /// conjugate gradients apply A matrix-free): the same values as assemble() there.
+  void assemble_diagonal_blocks(const Model& m, const SpringLinearization& lin_k,
+                                const SpringLinearization& lin_d, double h);
+
+  /// 3 #P by 3 #P, symmetric, both triangles stored; filled by assemble().
   const Eigen::SparseMatrix<double>& matrix() const { return m_a; }
+
+  /// A's diagonal blocks, block p in columns 3 p .. 3 p + 2; filled by either assembly.
+  const Eigen::Matrix<double, 3, Eigen::Dynamic>& diagonal_blocks() const { return m_blocks; }
 
   /// Inverses of the 3 by 3 diagonal blocks.
   /// @param inv  3 by 3 #P, block p in columns 3 p .. 3 p + 2, written
   void diagonal_block_inverses(Eigen::Matrix<double, 3, Eigen::Dynamic>& inv) const;
 
  private:
+  /// Copies A's diagonal blocks out of m_a into m_blocks.
+  void copy_diagonal_blocks();
+
   Eigen::SparseMatrix<double> m_a;
+  Eigen::Matrix<double, 3, Eigen::Dynamic> m_blocks;
   std::vector<int> m_spring_slots;  // per spring 4 blocks (pp, qq, pq, qp) by 3 columns
   std::vector<int> m_diag_slots;    // per particle and column, the offset of row 3 p
   std::vector<int> m_held_zero;     // off-diagonal entries in a held row or column

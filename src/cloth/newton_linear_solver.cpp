@@ -8,8 +8,7 @@ using Interleaved = Eigen::Matrix<double, 3, Eigen::Dynamic>;  // column-major: 
 
 }  // namespace
 
-NewtonLinearSolver::NewtonLinearSolver(LinearSolver solver, Eigen::Index dofs)
-    : m_solver(solver) {
+NewtonLinearSolver::NewtonLinearSolver(LinearSolver solver, Eigen::Index dofs) : m_solver(solver) {
   m_inv_diag.setZero(3, dofs / 3);
   m_buf.setZero(3, dofs / 3);
   m_cg.resize(dofs / 3);
@@ -38,15 +37,13 @@ CgResult NewtonLinearSolver::solve(const Model& m, const ImplicitMatrix& a,
 
 CgResult NewtonLinearSolver::solve_cg(const Model& m, const ImplicitMatrix& a,
                                       const SpringLinearization& lin_k,
-                                      const SpringLinearization& lin_d, double h,
-                                      const Matrix3X& b, Matrix3X& x, double tolerance,
-                                      int max_iterations) {
+                                      const SpringLinearization& lin_d, double h, const Matrix3X& b,
+                                      Matrix3X& x, double tolerance, int max_iterations) {
   // A u = (M + h drag) u - h^2 K u - h D0 u, matrix-free
   auto apply = [&](const Matrix3X& u, Matrix3X& out) {
     for (int r = 0; r < 3; ++r)
       out.row(r) = u.row(r).cwiseProduct(m.mass.transpose()) + (h * m.air_drag) * u.row(r);
-    add_jacobian_product(m.springs, lin_k, u, -h * h, 0.0, out, m_buf);
-    add_jacobian_product(m.springs, lin_d, u, 0.0, -h, out, m_buf);
+    add_newton_product(m.springs, lin_k, lin_d, u, -h * h, -h, out, m_buf);
   };
   if (m_solver == LinearSolver::block_jacobi_cg) {
     // z_p = B_p^-1 r_p with B_p particle p's 3 by 3 diagonal block (identity rows when held)
@@ -57,8 +54,8 @@ CgResult NewtonLinearSolver::solve_cg(const Model& m, const ImplicitMatrix& a,
     };
     return filtered_pcg_with(apply, blocks, b, m.free, x, m_cg, tolerance, max_iterations);
   }
-  const Eigen::VectorXd diag = a.matrix().diagonal();
-  m_inv_diag = Eigen::Map<const Interleaved>(diag.data(), 3, b.cols()).cwiseInverse();
+  for (Eigen::Index p = 0; p < b.cols(); ++p)
+    m_inv_diag.col(p) = a.diagonal_blocks().middleCols<3>(3 * p).diagonal().cwiseInverse();
   return filtered_pcg(apply, b, m_inv_diag, m.free, x, m_cg, tolerance, max_iterations);
 }
 

@@ -1,5 +1,6 @@
 #include "cloth/solver_options.hpp"
 
+#include <algorithm>
 #include <array>
 #include <utility>
 
@@ -15,6 +16,9 @@ const std::array<std::pair<LinearSolver, const char*>, 4> kSolverNames = {
      {LinearSolver::cg, "cg"},
      {LinearSolver::block_jacobi_cg, "block-jacobi-cg"},
      {LinearSolver::ldlt, "ldlt"}}};
+
+const std::array<std::pair<CgForcing, const char*>, 2> kForcingNames = {
+    {{CgForcing::fixed, "fixed"}, {CgForcing::adaptive, "adaptive"}}};
 
 template <class Table, class Value>
 const char* name_in(const Table& table, Value v) {
@@ -33,13 +37,33 @@ auto parse_in(const Table& table, std::string_view name)
 
 }  // namespace
 
-const char* newton_method_name(NewtonMethod m) { return name_in(kNewtonNames, m); }
+const char* newton_method_name(NewtonMethod m) {
+  return name_in(kNewtonNames, m);
+}
 std::optional<NewtonMethod> parse_newton_method(std::string_view name) {
   return parse_in(kNewtonNames, name);
 }
-const char* linear_solver_name(LinearSolver s) { return name_in(kSolverNames, s); }
+const char* linear_solver_name(LinearSolver s) {
+  return name_in(kSolverNames, s);
+}
 std::optional<LinearSolver> parse_linear_solver(std::string_view name) {
   return parse_in(kSolverNames, name);
+}
+
+const char* cg_forcing_name(CgForcing f) {
+  return name_in(kForcingNames, f);
+}
+std::optional<CgForcing> parse_cg_forcing(std::string_view name) {
+  return parse_in(kForcingNames, name);
+}
+
+double next_forcing(double previous_eta, double residual_ratio, double floor) {
+  constexpr double kGamma = 0.9;
+  double eta = kGamma * residual_ratio * residual_ratio;
+  // the safeguard: do not tighten abruptly while the last forcing term was loose
+  const double safeguard = kGamma * previous_eta * previous_eta;
+  if (safeguard > 0.1) eta = std::max(eta, safeguard);
+  return std::max(floor, std::min(kForcingMax, eta));
 }
 
 SolverOptions line_search_options(LinearSolver solver) {
@@ -48,6 +72,7 @@ SolverOptions line_search_options(LinearSolver solver) {
   o.newton = NewtonMethod::line_search;
   o.newton_iterations = kLineSearchNewtonIterations;
   o.cg_tolerance = kLineSearchCgTolerance;
+  o.cg_forcing = CgForcing::adaptive;
   o.linear_solver = solver;
   return o;
 }

@@ -23,6 +23,12 @@ enum class LinearSolver {
   ldlt              ///< sparse direct LDL^T (Eigen SimplicialLDLT), symbolic factorisation reused
 };
 
+/// How tightly implicit Euler solves each Newton system.
+enum class CgForcing {
+  fixed,    ///< every system to cg_tolerance
+  adaptive  ///< line-search: Eisenstat and Walker's forcing terms, never tighter than cg_tolerance
+};
+
 /// "linearized", "line-search".
 const char* newton_method_name(NewtonMethod m);
 /// The method with that name, if any.
@@ -32,6 +38,11 @@ const char* linear_solver_name(LinearSolver s);
 /// The solver with that name, if any.
 std::optional<LinearSolver> parse_linear_solver(std::string_view name);
 
+/// "fixed", "adaptive".
+const char* cg_forcing_name(CgForcing f);
+/// The forcing with that name, if any.
+std::optional<CgForcing> parse_cg_forcing(std::string_view name);
+
 /// Options of the custom engine.
 struct SolverOptions {
   Integrator integrator = Integrator::rk4;
@@ -39,18 +50,29 @@ struct SolverOptions {
   int newton_iterations = 1;       // implicit-euler: limit; linearized with 1 is Baraff and Witkin
   double newton_tolerance = 1e-2;  // implicit-euler, line-search: max |M^-1 residual| (m/s)
   LinearSolver linear_solver = LinearSolver::automatic;  // implicit-euler
-  double cg_tolerance = 1e-8;    // implicit-euler: relative residual |S r| / |S b|
-  int cg_max_iterations = 2000;  // implicit-euler
-  bool clamp_compressed = true;  // implicit-euler: drop negative transverse stiffness
-  int substeps = 1;              // xpbd: substeps per step
-  int iterations = 10;           // xpbd: sweeps per substep; projective: local/global iterations
+  double cg_tolerance = 1e-8;               // implicit-euler: relative residual |S r| / |S b|
+  int cg_max_iterations = 2000;             // implicit-euler
+  CgForcing cg_forcing = CgForcing::fixed;  // implicit-euler, line-search
+  bool clamp_compressed = true;             // implicit-euler: drop negative transverse stiffness
+  int substeps = 1;                         // xpbd: substeps per step
+  int iterations = 10;  // xpbd: sweeps per substep; projective: local/global iterations
 };
 
 /// Newton iteration limit of line-search mode when the scenario does not give one.
 constexpr int kLineSearchNewtonIterations = 20;
 /// CG tolerance of line-search mode when the scenario does not give one: an inexact Newton
-/// step suffices, since the line search and the residual test decide the accuracy.
+/// step suffices, since the line search and the residual test decide the accuracy. With
+/// adaptive forcing it is the tightest relative residual a system is solved to.
 constexpr double kLineSearchCgTolerance = 1e-3;
+/// The loosest (and the first) relative residual of adaptive forcing.
+constexpr double kForcingMax = 0.5;
+
+/// Eisenstat and Walker's second forcing term (1996; gamma 0.9, exponent 2, their safeguard):
+/// the relative CG residual for the next Newton system.
+/// @param previous_eta   the last system's forcing term
+/// @param residual_ratio the Newton residual now over the one before the last system
+/// @param floor          the tightest forcing term allowed (cg_tolerance)
+double next_forcing(double previous_eta, double residual_ratio, double floor);
 
 /// Implicit Euler with newton = line-search and that mode's defaults.
 SolverOptions line_search_options(LinearSolver solver = LinearSolver::automatic);

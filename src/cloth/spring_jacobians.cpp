@@ -72,6 +72,46 @@ void add_jacobian_product(const SpringSet& springs, const SpringLinearization& l
   }
 }
 
+void add_newton_product(const SpringSet& springs, const SpringLinearization& lin_k,
+                        const SpringLinearization& lin_d, const Matrix3X& u, double alpha,
+                        double beta, Matrix3X& y, Matrix3X& buf) {
+  const double bc = beta * springs.damping;
+  const double* __restrict U = u.row(0).data();
+  const double* __restrict V = u.row(1).data();
+  const double* __restrict W = u.row(2).data();
+  double* __restrict bx = buf.row(0).data();
+  double* __restrict by = buf.row(1).data();
+  double* __restrict bz = buf.row(2).data();
+  for (size_t fi = 0; fi < springs.families.size(); ++fi) {
+    const SpringFamily& fam = springs.families[fi];
+    const int o = fam.offset, m = fam.slots();
+    const auto& L = lin_k.dirs[fi];
+    const auto& L0 = lin_d.dirs[fi];
+    const double* __restrict nx = L.row(0).data();
+    const double* __restrict ny = L.row(1).data();
+    const double* __restrict nz = L.row(2).data();
+    const double* __restrict nb = L.row(3).data();
+    const double* __restrict mx = L0.row(0).data();
+    const double* __restrict my = L0.row(1).data();
+    const double* __restrict mz = L0.row(2).data();
+    const double ak = alpha * fam.stiffness;
+    for (int p = 0; p < m; ++p) {
+      const double wx = U[p + o] - U[p], wy = V[p + o] - V[p], wz = W[p + o] - W[p];
+      // stiffness along d^ and across it, damping along the step's first direction d0^
+      const double s1 = ak * (1.0 - nb[p]) * (nx[p] * wx + ny[p] * wy + nz[p] * wz);
+      const double s2 = ak * nb[p];
+      const double s3 = bc * (mx[p] * wx + my[p] * wy + mz[p] * wz);
+      bx[p] = s1 * nx[p] + s2 * wx + s3 * mx[p];
+      by[p] = s1 * ny[p] + s2 * wy + s3 * my[p];
+      bz[p] = s1 * nz[p] + s2 * wz + s3 * mz[p];
+    }
+    for (int r = 0; r < 3; ++r) {
+      y.row(r).head(m) += buf.row(r).head(m);
+      y.row(r).segment(o, m) -= buf.row(r).head(m);
+    }
+  }
+}
+
 void add_jacobian_diagonal(const SpringSet& springs, const SpringLinearization& lin, double alpha,
                            double beta, Matrix3X& diag, Matrix3X& buf) {
   const double c = springs.damping;

@@ -34,6 +34,13 @@ void linearize_springs(const SpringSet& springs, const Matrix3X& x, bool clamp_c
 void add_jacobian_product(const SpringSet& springs, const SpringLinearization& lin,
                           const Matrix3X& u, double alpha, double beta, Matrix3X& y, Matrix3X& buf);
 
+/// y += alpha K u + beta D0 u in one pass over the springs, with K from lin_k and D0's
+/// directions from lin_d: the product implicit Euler's conjugate gradients need, equal to
+/// add_jacobian_product(lin_k, alpha, 0) followed by add_jacobian_product(lin_d, 0, beta).
+void add_newton_product(const SpringSet& springs, const SpringLinearization& lin_k,
+                        const SpringLinearization& lin_d, const Matrix3X& u, double alpha,
+                        double beta, Matrix3X& y, Matrix3X& buf);
+
 /// diag += alpha diag(K) + beta diag(D), per particle and axis (3 by #P).
 void add_jacobian_diagonal(const SpringSet& springs, const SpringLinearization& lin, double alpha,
                            double beta, Matrix3X& diag, Matrix3X& buf);

@@ -33,6 +33,7 @@ const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1",
 const Keys kSoftbodyStiffness = {"matched", "klst"};
 const Keys kNewtonMethods = {"linearized", "line-search"};
 const Keys kLinearSolvers = {"auto", "cg", "block-jacobi-cg", "ldlt"};
+const Keys kCgForcings = {"fixed", "adaptive"};
 
 Keys engine_kind_names() {
   Keys k;

@@ -36,6 +36,7 @@ extern const Keys kSelections;
 extern const Keys kSoftbodyStiffness;
 extern const Keys kNewtonMethods;
 extern const Keys kLinearSolvers;
+extern const Keys kCgForcings;
 
 /// The names of the engine kinds, in engine_kind_table() order.
 Keys engine_kind_names();

@@ -282,8 +282,8 @@ EngineSpec read_engine_identity(const Reader& r, const toml::table& t, int index
     path = "engine." + s;
   }
   const At first{t, path};
-  e.kind = *parse_engine_kind(
-      r.choice(first, "kind", engine_kind_name(e.kind), engine_kind_names()));
+  e.kind =
+      *parse_engine_kind(r.choice(first, "kind", engine_kind_name(e.kind), engine_kind_names()));
   if (engine_kind_info(e.kind).has_integrators) {
     const std::string integrator = r.choice(
         first, "integrator", cloth::integrator_name(e.solver.integrator), integrator_names());
@@ -306,10 +306,23 @@ void check_engine_keys(const Reader& r, const toml::table& t, const EngineSpec& 
     for (const EngineKindInfo& other : engine_kind_table())
       if (contains(other.keys, k.str()))
         r.fail(&v, at.key(k.str()),
-               "applies only to " + std::string(other.name) + " engines, this one is " +
-                   own.name + kind_source);
+               "applies only to " + std::string(other.name) + " engines, this one is " + own.name +
+                   kind_source);
     r.fail(&v, at.key(k.str()), "unknown key" + suggest(k.str(), known));
   }
+}
+
+/// cg_forcing: adaptive by default with line-search, which alone has a Newton residual to
+/// adapt to.
+void read_cg_forcing(const Reader& r, const At& at, cloth::SolverOptions& o) {
+  const bool line_search = o.newton == cloth::NewtonMethod::line_search;
+  const cloth::CgForcing def = line_search ? cloth::CgForcing::adaptive : cloth::CgForcing::fixed;
+  o.cg_forcing = *cloth::parse_cg_forcing(
+      r.choice(at, "cg_forcing", cloth::cg_forcing_name(def), kCgForcings));
+  if (o.cg_forcing == cloth::CgForcing::adaptive && !line_search)
+    r.fail(at.table.get("cg_forcing"), at.key("cg_forcing"),
+           "\"adaptive\" needs newton = \"line-search\" (the linearized step has no Newton "
+           "residual to adapt to)");
 }
 
 /// The options of e's kind, read from t.
@@ -323,14 +336,14 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
       const bool line_search = o.newton == cloth::NewtonMethod::line_search;
       const int newton_default =
           line_search ? cloth::kLineSearchNewtonIterations : o.newton_iterations;
-      const double cg_default =
-          line_search ? cloth::kLineSearchCgTolerance : o.cg_tolerance;
+      const double cg_default = line_search ? cloth::kLineSearchCgTolerance : o.cg_tolerance;
       o.newton_iterations = r.integer(at, "newton_iterations", newton_default, 1);
       o.newton_tolerance = r.number(at, "newton_tolerance", o.newton_tolerance, kPositive);
       o.linear_solver = *cloth::parse_linear_solver(r.choice(
           at, "linear_solver", cloth::linear_solver_name(o.linear_solver), kLinearSolvers));
       o.cg_tolerance = r.number(at, "cg_tolerance", cg_default, kPositive);
       o.cg_max_iterations = r.integer(at, "cg_max_iterations", o.cg_max_iterations, 1);
+      read_cg_forcing(r, at, o);
       o.clamp_compressed = r.boolean(at, "clamp_compressed", o.clamp_compressed);
       // each step costs substeps x iterations sweeps: bounded so that a step always ends
       o.substeps = r.integer(at, "substeps", o.substeps, 1, kMaxSolverIterations);
@@ -402,7 +415,8 @@ void read_header(const Reader& r, const toml::table& root, Scenario& s) {
     const auto [n, key] =
         blame({{root.get("frame_interval"), "frame_interval"}, {root.get("duration"), "duration"}});
     r.fail(n, key,
-           "expected at most " + cloth::shortest_decimal(kMaxFrames) + " frames, got duration / frame_interval = " +
+           "expected at most " + cloth::shortest_decimal(kMaxFrames) +
+               " frames, got duration / frame_interval = " +
                cloth::shortest_decimal(s.duration / s.frame_interval));
   }
   s.snapshot_interval =
@@ -500,8 +514,9 @@ void read_engines(const Reader& r, const toml::table& root,
     if (s.duration / e.dt > kMaxSteps)
       r.fail(t.get("dt") ? t.get("dt") : &t, path + ".dt",
              "expected a dt that takes at most " + cloth::shortest_decimal(kMaxSteps) +
-                 " steps over duration = " + toml_double(s.duration) + " s, got dt = " +
-                 toml_double(e.dt) + " s (" + cloth::shortest_decimal(s.duration / e.dt) + " steps)");
+                 " steps over duration = " + toml_double(s.duration) +
+                 " s, got dt = " + toml_double(e.dt) + " s (" +
+                 cloth::shortest_decimal(s.duration / e.dt) + " steps)");
     s.engines.push_back(std::move(e));
   }
 }

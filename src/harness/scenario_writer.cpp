@@ -28,6 +28,7 @@ void write_custom_options(std::ostream& o, const cloth::SolverOptions& so) {
     << "linear_solver = " << toml_string(cloth::linear_solver_name(so.linear_solver)) << "\n"
     << "cg_tolerance = " << toml_double(so.cg_tolerance) << "\n"
     << "cg_max_iterations = " << so.cg_max_iterations << "\n"
+    << "cg_forcing = " << toml_string(cloth::cg_forcing_name(so.cg_forcing)) << "\n"
     << "clamp_compressed = " << (so.clamp_compressed ? "true" : "false") << "\n"
     << "substeps = " << so.substeps << "  # xpbd\n"
     << "iterations = " << so.iterations << "  # xpbd (per substep), projective\n";

@@ -1,6 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "cloth/implicit_matrix.hpp"
 #include "cloth/mass_spring_cloth.hpp"
 #include "cloth/spring_forces.hpp"
 #include "test_scenes.hpp"
@@ -51,9 +52,11 @@ TEST_CASE("the direct and CG solvers give the same Newton step", "[integrator]")
     SolverOptions o = line_search_options(solver);
     o.newton_iterations = 1;
     o.cg_tolerance = 1e-12;
+    o.cg_forcing = CgForcing::fixed;
     MassSpringCloth c(s, o);
     Matrix3X v = Matrix3X::Zero(3, c.model().particle_count());
-    for (Eigen::Index p = 0; p < v.cols(); ++p) v.col(p) = Vector3(std::sin(p), std::cos(3.0 * p), 0.5);
+    for (Eigen::Index p = 0; p < v.cols(); ++p)
+      v.col(p) = Vector3(std::sin(p), std::cos(3.0 * p), 0.5);
     c.set_state(c.model().x0, v);
     c.step(kFrame);
     return Matrix3X(c.velocities());
@@ -80,4 +83,61 @@ TEST_CASE("held axes stay exact under Newton with line search", "[integrator]") 
         CHECK(c.positions()(r, p) == x0(r, p));
         CHECK(c.velocities()(r, p) == 0.0);
       }
+}
+
+TEST_CASE("adaptive forcing reaches the tight solves' step with fewer CG iterations",
+          "[integrator]") {
+  // a state of the 24 x 24 seed scene folding over the sphere (its 13th frame)
+  const Scene scene = seed_scene(24);
+  MassSpringCloth start(scene, line_search_options(LinearSolver::block_jacobi_cg));
+  for (int step = 0; step < 13; ++step) start.step(kFrame);
+  constexpr double kResidual = 1e-5;  // m/s, |M^-1 residual| on every free axis
+  auto one_step = [&](CgForcing forcing) {
+    SolverOptions o = line_search_options(LinearSolver::block_jacobi_cg);
+    o.cg_forcing = forcing;
+    o.cg_tolerance = 1e-10;
+    o.newton_tolerance = kResidual;
+    o.newton_iterations = 2000;
+    MassSpringCloth c(scene, o);
+    c.set_state(start.positions(), start.velocities());
+    c.step(kFrame);
+    return c;
+  };
+  const MassSpringCloth tight = one_step(CgForcing::fixed);
+  const MassSpringCloth adaptive = one_step(CgForcing::adaptive);
+  const Counters t = tight.counters(), a = adaptive.counters();
+  CAPTURE(t.cg_iterations, a.cg_iterations, t.newton_iterations, a.newton_iterations);
+  REQUIRE(tight.newton()->last_residual() <= kResidual);
+  REQUIRE(adaptive.newton()->last_residual() <= kResidual);
+  const double dv = (tight.velocities() - adaptive.velocities()).cwiseAbs().maxCoeff();
+  CAPTURE(dv);
+  CHECK(dv <= kResidual);
+  CHECK(a.cg_iterations < t.cg_iterations);
+}
+
+TEST_CASE("the preconditioner's diagonal blocks equal the assembled matrix's", "[integrator]") {
+  // a shaken 8 x 8 seed cloth, so that every spring is stretched or compressed, with drag and
+  // one axis of an edge particle held besides the corners
+  Scene s = seed_scene(8);
+  s.held[3] = kHoldY;
+  s.cloth.air_drag = 0.3;
+  const Model m = build_model(s);
+  Matrix3X x = m.x0, x0 = m.x0;
+  for (Eigen::Index p = 0; p < x.cols(); ++p) {
+    x.col(p) += 0.05 * Vector3(std::sin(3.0 * p), std::cos(5.0 * p), std::sin(7.0 * p + 1));
+    x0.col(p) += 0.05 * Vector3(std::cos(2.0 * p), std::sin(p), std::cos(11.0 * p));
+  }
+  SpringLinearization lin_k, lin_d;
+  linearize_springs(m.springs, x, true, lin_k);
+  linearize_springs(m.springs, x0, true, lin_d);
+  ImplicitMatrix whole(m), blocks(m);
+  whole.assemble(m, lin_k, lin_d, kFrame);
+  blocks.assemble_diagonal_blocks(m, lin_k, lin_d, kFrame);
+  const Eigen::MatrixXd a(whole.matrix());
+  for (Eigen::Index p = 0; p < x.cols(); ++p) {
+    CAPTURE(p);
+    const Matrix3 expected = a.block<3, 3>(3 * p, 3 * p);
+    CHECK((blocks.diagonal_blocks().middleCols<3>(3 * p) - expected).cwiseAbs().maxCoeff() <=
+          1e-12 * expected.cwiseAbs().maxCoeff());
+  }
 }

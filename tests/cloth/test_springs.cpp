@@ -177,3 +177,19 @@ TEST_CASE("Jacobian diagonal matches the dense matrix", "[springs]") {
   for (Eigen::Index c = 0; c < 3 * n; ++c)
     CHECK(diag(c % 3, c / 3) == Approx(A(c, c)).epsilon(1e-12));
 }
+
+TEST_CASE("the one-pass Newton product equals the stiffness and damping products", "[springs]") {
+  // K at one shaken state, D's directions at another, as in a Newton iteration of a step
+  const Shaken g = shaken_grid(9, 0.05), start = shaken_grid(10, 0.05);
+  const Eigen::Index n = g.x.cols();
+  SpringLinearization lin_k, lin_d;
+  linearize_springs(g.model.springs, g.x, true, lin_k);
+  linearize_springs(g.model.springs, start.x, true, lin_d);
+  const double alpha = -1.1e-3, beta = -3.3e-2;  // -h^2 and -h at h = 1/30 s
+  Matrix3X fused = g.v, split = g.v, buf(3, n);
+  add_newton_product(g.model.springs, lin_k, lin_d, start.v, alpha, beta, fused, buf);
+  add_jacobian_product(g.model.springs, lin_k, start.v, alpha, 0.0, split, buf);
+  add_jacobian_product(g.model.springs, lin_d, start.v, 0.0, beta, split, buf);
+  CHECK((fused - g.v).norm() > 0.0);
+  CHECK((fused - split).norm() <= 1e-13 * (split - g.v).norm());
+}

@@ -120,6 +120,7 @@ void check_same_scenario(const Scenario& a, const Scenario& b) {
     CHECK(e.solver.newton_iterations == f.solver.newton_iterations);
     CHECK(e.solver.cg_tolerance == f.solver.cg_tolerance);
     CHECK(e.solver.cg_max_iterations == f.solver.cg_max_iterations);
+    CHECK(e.solver.cg_forcing == f.solver.cg_forcing);
     CHECK(e.solver.clamp_compressed == f.solver.clamp_compressed);
     CHECK(e.bullet.implicit == f.bullet.implicit);
     CHECK(e.bullet.line_search == f.bullet.line_search);
