@@ -108,7 +108,7 @@ void resolve_each(const std::vector<Shape>& shapes, double t, double h, const Ma
       if (sp.distance > s.margin) continue;
       const Vector3& nrm = sp.normal;
       x.col(p) += free.col(p).cwiseProduct((s.margin - sp.distance) * nrm);
-      ++tally.contacts;
+      tally.count(p);
       // restitution and friction act on the velocity relative to the collider
       const Vector3 vold = v.col(p);
       if ((vold - vs).dot(nrm) >= 0) continue;  // not approaching

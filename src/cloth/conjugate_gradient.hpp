@@ -26,29 +26,32 @@ struct CgWorkspace {
   }
 };
 
-/// Solves S A S x = S b for symmetric positive definite A given as a product.
+/// Solves S A S x = S b for symmetric positive definite A given as a product, with S an
+/// orthogonal projection applied in place.
 /// @param apply         apply(u, out): out = A u, both 3 by #P
 /// @param precondition  precondition(r, z): z = P^-1 r, both 3 by #P, P symmetric positive
-///                      definite and keeping held axes zero
+///                      definite; z is projected afterwards
+/// @param project       project(u): u = S u in place, 3 by #P
 /// @param b             3 by #P right-hand side
-/// @param filter        3 by #P, 1 for free axes, 0 for held ones
 /// @param x             3 by #P solution, starts at zero
-template <class Apply, class Precondition>
-CgResult filtered_pcg_with(Apply&& apply, Precondition&& precondition, const Matrix3X& b,
-                           const Matrix3X& filter, Matrix3X& x, CgWorkspace& ws, double tolerance,
-                           int max_iterations) {
+template <class Apply, class Precondition, class Project>
+CgResult projected_pcg(Apply&& apply, Precondition&& precondition, Project&& project,
+                       const Matrix3X& b, Matrix3X& x, CgWorkspace& ws, double tolerance,
+                       int max_iterations) {
   auto dot = [](const Matrix3X& a, const Matrix3X& c) { return (a.array() * c.array()).sum(); };
   x.setZero();
-  ws.r = b.cwiseProduct(filter);
+  ws.r = b;
+  project(ws.r);
   const double b_norm = std::sqrt(dot(ws.r, ws.r));
   CgResult res;
   if (b_norm == 0.0) return res;
   precondition(ws.r, ws.z);
+  project(ws.z);
   ws.p = ws.z;
   double rz = dot(ws.r, ws.z);
   for (int it = 0; it < max_iterations; ++it) {
     apply(ws.p, ws.q);
-    ws.q.array() *= filter.array();
+    project(ws.q);
     const double alpha = rz / dot(ws.p, ws.q);
     x += alpha * ws.p;
     ws.r -= alpha * ws.q;
@@ -56,11 +59,23 @@ CgResult filtered_pcg_with(Apply&& apply, Precondition&& precondition, const Mat
     res.relative_residual = std::sqrt(dot(ws.r, ws.r)) / b_norm;
     if (res.relative_residual <= tolerance) break;
     precondition(ws.r, ws.z);
+    project(ws.z);
     const double rz_new = dot(ws.r, ws.z);
     ws.p = ws.z + (rz_new / rz) * ws.p;
     rz = rz_new;
   }
   return res;
+}
+
+/// The same with S the held-axis mask.
+/// @param filter  3 by #P, 1 for free axes, 0 for held ones; precondition must keep held axes
+///                zero
+template <class Apply, class Precondition>
+CgResult filtered_pcg_with(Apply&& apply, Precondition&& precondition, const Matrix3X& b,
+                           const Matrix3X& filter, Matrix3X& x, CgWorkspace& ws, double tolerance,
+                           int max_iterations) {
+  auto mask = [&](Matrix3X& u) { u.array() *= filter.array(); };
+  return projected_pcg(apply, precondition, mask, b, x, ws, tolerance, max_iterations);
 }
 
 /// The same with the Jacobi preconditioner.

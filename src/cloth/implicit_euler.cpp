@@ -62,6 +62,13 @@ double ImplicitEulerNewton::residual(const Model& m, double h, const Matrix3X& v
   for (int r = 0; r < 3; ++r)
     m_rhs.row(r) = h * m_force.row(r) - (v.row(r) - m_v0.row(r)).cwiseProduct(m.mass.transpose());
   m_rhs = (m.free.array() > 0.0).select(m_rhs, 0.0);
+  // a contact's normal part is the constraint's impulse, -(n . rhs) along n (N s)
+  m_impulse.resize(m_contacts.size());
+  for (size_t k = 0; k < m_contacts.size(); ++k) {
+    const ContactConstraint& c = m_contacts[k];
+    m_impulse[k] = -c.normal.dot(m_rhs.col(c.particle));
+  }
+  remove_normal_parts(m_contacts, m_rhs);
   double worst = 0.0;
   for (int r = 0; r < 3; ++r)
     worst =
@@ -85,13 +92,42 @@ bool ImplicitEulerNewton::line_search(const Model& m, double h, double slope, Co
   return false;
 }
 
-void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double h, Matrix3X& x,
-                               Matrix3X& v, Counters& counters) {
-  // the dampers' directions are frozen at the step's start; the first guess is x0 + h v0
+void ImplicitEulerNewton::start_step(const Model& m, const SolverOptions& o, double t_end, double h,
+                                     const Matrix3X& x, const Matrix3X& v) {
   m_x0 = x;
   m_v0 = v;
   m_v = v;
+  m_contacts.clear();
+  if (o.contacts_in_solve) find_contact_constraints(m, t_end, h, x, v, m_released, m_contacts);
+  // the first guess x0 + h v0, with each contact's normal velocity fixed
+  for (const ContactConstraint& c : m_contacts)
+    m_v.col(c.particle) += (c.normal_velocity - c.normal.dot(m_v.col(c.particle))) * c.normal;
+  // the dampers' directions are frozen at the step's start
   linearize_springs(m.springs, m_x0, o.clamp_compressed, m_lin0);
+}
+
+void ImplicitEulerNewton::newton_direction(const Model& m, const SolverOptions& o, double h,
+                                           double eta, Counters& counters) {
+  // newton system A dv = -grad Phi at the iterate, filtered at held axes and contacts
+  m_x = m_x0 + h * m_v;
+  linearize_springs(m.springs, m_x, o.clamp_compressed, m_lin);
+  // the conjugate gradients apply A matrix-free and need only its diagonal blocks
+  if (m_direct)
+    m_matrix.assemble(m, m_lin, m_lin0, h);
+  else
+    m_matrix.assemble_diagonal_blocks(m, m_lin, m_lin0, h);
+  m_matrix.apply_contacts(m, m_contacts, m_direct);
+  const CgResult cg = m_solver.solve(m, m_matrix, m_lin, m_lin0, h, m_rhs, m_dv, eta,
+                                     o.cg_max_iterations, m_contacts);
+  counters.cg_iterations += cg.iterations;
+  if (cg.relative_residual > eta) ++counters.cg_unconverged;
+  m_dv = (m.free.array() > 0.0).select(m_dv, 0.0);
+  remove_normal_parts(m_contacts, m_dv);
+}
+
+void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_end, double h,
+                               Matrix3X& x, Matrix3X& v, Counters& counters) {
+  start_step(m, o, t_end, h, x, v);
   counters.force_evals += 2;
   m_residual = residual(m, h, m_v);
   m_phi = objective(m, h, m_v);
@@ -100,37 +136,48 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double h,
   const bool adaptive = o.cg_forcing == CgForcing::adaptive;
   double eta = adaptive ? std::max(o.cg_tolerance, kForcingMax) : o.cg_tolerance;
   double residual_before = m_residual;
+  bool residual_current = true;  // m_rhs and m_impulse belong to m_v
   for (int it = 0; it < o.newton_iterations && m_residual > o.newton_tolerance; ++it) {
     ++counters.newton_iterations;
     if (adaptive && it > 0) eta = next_forcing(eta, m_residual / residual_before, o.cg_tolerance);
     residual_before = m_residual;
-    // newton system A dv = -grad Phi at the iterate
-    m_x = m_x0 + h * m_v;
-    linearize_springs(m.springs, m_x, o.clamp_compressed, m_lin);
-    // the conjugate gradients apply A matrix-free and need only its diagonal blocks
-    if (m_direct)
-      m_matrix.assemble(m, m_lin, m_lin0, h);
-    else
-      m_matrix.assemble_diagonal_blocks(m, m_lin, m_lin0, h);
-    const CgResult cg =
-        m_solver.solve(m, m_matrix, m_lin, m_lin0, h, m_rhs, m_dv, eta, o.cg_max_iterations);
-    counters.cg_iterations += cg.iterations;
-    if (cg.relative_residual > eta) ++counters.cg_unconverged;
-    m_dv = (m.free.array() > 0.0).select(m_dv, 0.0);
+    newton_direction(m, o, h, eta, counters);
     double slope = m_dv.cwiseProduct(m_rhs).sum();
-    // a step that does not descend (no clamp, or a failed solve): M^-1 times -grad Phi
+    // a step that does not descend (no clamp, or a failed solve): S M^-1 times -grad Phi
     if (!(slope > 0.0)) {
       for (int r = 0; r < 3; ++r) m_dv.row(r) = m_rhs.row(r).cwiseProduct(m.inv_mass.transpose());
+      remove_normal_parts(m_contacts, m_dv);
       slope = m_dv.cwiseProduct(m_rhs).sum();
     }
+    residual_current = false;
     if (!line_search(m, h, slope, counters)) break;
     ++counters.force_evals;
     m_residual = residual(m, h, m_v);
+    residual_current = true;
     m_history.push_back(m_phi);
   }
+  if (!residual_current && !m_contacts.empty()) {
+    ++counters.force_evals;
+    residual(m, h, m_v);
+  }
+  finish_contacts(x.cols());
   // held axes have v = 0 exactly, so x stays x0 there
   x = m_x0 + h * m_v;
   v = m_v;
+}
+
+void ImplicitEulerNewton::finish_contacts(Eigen::Index particles) {
+  m_contact_work = 0.0;
+  m_contact_impulse.setZero();
+  m_released.assign(static_cast<size_t>(particles), 0);
+  for (size_t k = 0; k < m_contacts.size(); ++k) {
+    const ContactConstraint& c = m_contacts[k];
+    // the constraint force J / h over the step's displacement h v: J (n . v)
+    m_contact_work += m_impulse[k] * c.normal_velocity;
+    m_contact_impulse += m_impulse[k] * c.normal;
+    // a contact that pulled its particle in lets go next step
+    if (m_impulse[k] < 0.0) m_released[c.particle] = 1;
+  }
 }
 
 }  // namespace cloth

@@ -32,9 +32,19 @@ class ImplicitEulerNewton {
  public:
   ImplicitEulerNewton(const Model& m, const SolverOptions& o);
 
-  /// Advances x and v (each 3 by #P) by one backward-Euler step of h seconds.
-  void step(const Model& m, const SolverOptions& o, double h, Matrix3X& x, Matrix3X& v,
-            Counters& counters);
+  /// Advances x and v (each 3 by #P) by one backward-Euler step of h seconds that ends at
+  /// t_end (s), with contacts in the solve if o.contacts_in_solve.
+  void step(const Model& m, const SolverOptions& o, double t_end, double h, Matrix3X& x,
+            Matrix3X& v, Counters& counters);
+
+  /// Work of the last step's contact constraints (J, negative when they took energy out).
+  double contact_work() const { return m_contact_work; }
+  /// Impulse of the last step's contact constraints on the cloth (N s).
+  const Vector3& contact_impulse() const { return m_contact_impulse; }
+  /// The last step's contact constraints.
+  const std::vector<ContactConstraint>& contacts() const { return m_contacts; }
+  /// Their impulses along their normals (N s), in the same order.
+  const std::vector<double>& impulses() const { return m_impulse; }
 
   /// Phi at the start and after each Newton iteration of the last step (J).
   const std::vector<double>& objective_history() const { return m_history; }
@@ -42,6 +52,14 @@ class ImplicitEulerNewton {
   double last_residual() const { return m_residual; }
 
  private:
+  /// Sets the step's start, contacts, first guess and frozen damper directions.
+  void start_step(const Model& m, const SolverOptions& o, double t_end, double h, const Matrix3X& x,
+                  const Matrix3X& v);
+  /// Solves for m_dv, the filtered Newton direction at m_v, to relative residual eta.
+  void newton_direction(const Model& m, const SolverOptions& o, double h, double eta,
+                        Counters& counters);
+  /// Books the contacts' work and impulse and which contacts let go.
+  void finish_contacts(Eigen::Index particles);
   double objective(const Model& m, double h, const Matrix3X& v);
   double residual(const Model& m, double h, const Matrix3X& v);
   bool line_search(const Model& m, double h, double slope, Counters& counters);
@@ -51,6 +69,11 @@ class ImplicitEulerNewton {
   SpringLinearization m_lin0, m_lin;
   Matrix3X m_x0, m_v0, m_v, m_x, m_trial, m_dv, m_force, m_damp, m_zero, m_buf, m_rhs;
   std::vector<double> m_history;
+  std::vector<ContactConstraint> m_contacts;
+  std::vector<double> m_impulse;  // per contact, along its normal (N s)
+  std::vector<char> m_released;   // per particle: its last contact pulled it in
+  Vector3 m_contact_impulse = Vector3::Zero();
+  double m_contact_work = 0;
   double m_phi = 0, m_residual = 0;
   bool m_direct = false;  // ldlt: A assembled whole
 };

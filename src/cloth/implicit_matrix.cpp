@@ -133,6 +133,44 @@ void ImplicitMatrix::assemble_diagonal_blocks(const Model& m, const SpringLinear
       }
 }
 
+void ImplicitMatrix::apply_contacts(const Model& m, const std::vector<ContactConstraint>& contacts,
+                                    bool whole) {
+  if (contacts.empty()) return;
+  // S per particle: the identity unless in contact
+  std::vector<Matrix3> filter(m.particle_count(), Matrix3::Identity());
+  std::vector<char> touching(m.particle_count(), 0);
+  for (const ContactConstraint& c : contacts) {
+    filter[c.particle] -= c.normal * c.normal.transpose();
+    touching[c.particle] = 1;
+  }
+  for (const ContactConstraint& c : contacts) {
+    auto block = m_blocks.middleCols<3>(3 * Eigen::Index(c.particle));
+    const Matrix3& s = filter[c.particle];
+    block = s * block * s + c.normal * c.normal.transpose();
+  }
+  if (!whole) return;
+  double* val = m_a.valuePtr();
+  auto transform = [&](const int* slots, int p, int q, bool diagonal) {
+    Matrix3 b;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) b(r, c) = val[slots[c] + r];
+    b = filter[p] * b * filter[q];
+    if (diagonal) b += Matrix3::Identity() - filter[p];
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) val[slots[c] + r] = b(r, c);
+  };
+  // the off-diagonal blocks pq and qp of every spring with an end in contact
+  int s = 0;
+  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
+    const int* slots = &m_spring_slots[12 * s++];
+    if (!touching[p] && !touching[q]) return;
+    transform(slots + 6, p, q, false);
+    transform(slots + 9, q, p, false);
+  });
+  for (const ContactConstraint& c : contacts)
+    transform(&m_diag_slots[3 * Eigen::Index(c.particle)], c.particle, c.particle, true);
+}
+
 void ImplicitMatrix::diagonal_block_inverses(Eigen::Matrix<double, 3, Eigen::Dynamic>& inv) const {
   const Eigen::Index n = m_blocks.cols() / 3;
   inv.resize(3, 3 * n);

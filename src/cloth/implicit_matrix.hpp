@@ -10,6 +10,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
+#include "cloth/contact_constraints.hpp"
 #include "cloth/model.hpp"
 #include "cloth/spring_jacobians.hpp"
 #include "cloth/types.hpp"
@@ -32,6 +33,11 @@ class ImplicitMatrix {
   /// conjugate gradients apply A matrix-free): the same values as assemble() there.
   void assemble_diagonal_blocks(const Model& m, const SpringLinearization& lin_k,
                                 const SpringLinearization& lin_d, double h);
+
+  /// Filters A by S = I - n n^T at each contact particle: S A S + n n^T on its diagonal
+  /// block, so that the normal part of the solution is zero and A stays positive definite.
+  /// @param whole  also the assembled matrix (after assemble()), not only the diagonal blocks
+  void apply_contacts(const Model& m, const std::vector<ContactConstraint>& contacts, bool whole);
 
   /// 3 #P by 3 #P, symmetric, both triangles stored; filled by assemble().
   const Eigen::SparseMatrix<double>& matrix() const { return m_a; }

@@ -180,6 +180,11 @@ void MassSpringCloth::resolve_contacts(double h) {
   m_x1 = m_x;
   m_v1 = m_v;
   ContactTally tally;
+  // the solve's contacts the pass does not count are counted after it
+  if (m_newton) {
+    m_touched.assign(static_cast<size_t>(m_x.cols()), 0);
+    tally.touched = &m_touched;
+  }
   if (!m_model.spheres.empty()) {
     resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free, &tally);
     m_counters.contact_tests +=
@@ -188,7 +193,7 @@ void MassSpringCloth::resolve_contacts(double h) {
   if (!m_model.shapes.empty())
     m_counters.contact_tests += resolve_shape_contacts(m_model.shapes, m_t, h, m_x_start, m_x, m_v,
                                                        m_model.free, m_model.mass, tally);
-  m_contacts = tally.contacts;
+  m_contacts = tally.contacts + held_in_solve_only();
   m_contact_impulse += tally.impulse;
   // kinetic and gravity parts particle by particle (no temporaries), so the difference
   // carries no round-off of the cloth's whole energy
@@ -206,13 +211,27 @@ void MassSpringCloth::resolve_contacts(double h) {
   m_contact_work += work;
 }
 
+int MassSpringCloth::held_in_solve_only() const {
+  if (!m_newton) return 0;
+  // in contact by the solve's constraint, pushing, and not counted by the contact pass
+  int count = 0;
+  const std::vector<ContactConstraint>& held = m_newton->contacts();
+  for (size_t k = 0; k < held.size(); ++k) {
+    const int p = held[k].particle;
+    if (m_newton->impulses()[k] > 0.0 && !m_touched[static_cast<size_t>(p)]) ++count;
+  }
+  return count;
+}
+
 void MassSpringCloth::step_implicit_euler(double h) {
   // Newton on M (v1 - v0) = h f(x0 + h v1, v1), linearised at (xb, vb):
   //   (M - h D - h^2 K) dv = h f(xb, vb) + h K (x0 + h vb - xb) - M (vb - v0).
   // The first iteration linearises at (x0, v0): Baraff and Witkin's single solve.
   // line-search mode: Newton on the step's incremental potential (implicit_euler.hpp)
   if (m_newton) {
-    m_newton->step(m_model, m_options, h, m_x, m_v, m_counters);
+    m_newton->step(m_model, m_options, m_t + h, h, m_x, m_v, m_counters);
+    m_contact_work += m_newton->contact_work();
+    m_contact_impulse += m_newton->contact_impulse();
     return;
   }
   const Model& m = m_model;

@@ -54,6 +54,9 @@ class MassSpringCloth final : public Simulator {
   double step_rk4(double h);
   void step_implicit_euler(double h);
   void step_imex_euler(double h);
+  /// Particles the line-search solve held on a collider with a pushing impulse that the
+  /// contact pass after it did not count (m_touched).
+  int held_in_solve_only() const;
   /// Resolves collider contacts after a step and books their work in m_contact_work.
   void resolve_contacts(double h);
   /// Gives the handle particles their path's velocity over the next step of h seconds.
@@ -83,7 +86,8 @@ class MassSpringCloth final : public Simulator {
   CgWorkspace m_cg;
   std::unique_ptr<ImplicitEulerNewton> m_newton;   // implicit-euler with newton = line-search
   std::unique_ptr<ProjectiveSolver> m_projective;  // projective
-  VectorX m_lambda;                                // xpbd: the springs' multipliers
+  std::vector<char> m_touched;  // line-search: particles the last contact pass counted
+  VectorX m_lambda;             // xpbd: the springs' multipliers
 };
 
 }  // namespace cloth

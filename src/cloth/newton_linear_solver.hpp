@@ -7,6 +7,7 @@
 #include <Eigen/SparseCholesky>
 
 #include "cloth/conjugate_gradient.hpp"
+#include "cloth/contact_constraints.hpp"
 #include "cloth/implicit_matrix.hpp"
 #include "cloth/solver_options.hpp"
 
@@ -21,12 +22,15 @@ class NewtonLinearSolver {
   /// Solves A x = b for A assembled from lin_k and lin_d at step h. CG applies A matrix-free
   /// (the spring kernels are several times cheaper than a sparse product); a, assembled, gives
   /// the preconditioner or the factorisation.
-  /// @param b  3 by #P right-hand side, zero on held axes
-  /// @param x  3 by #P solution, zero on held axes, written
+  /// With contacts, A and b are filtered by I - n n^T at each contact particle (for ldlt, a
+  /// must already be: ImplicitMatrix::apply_contacts).
+  /// @param b  3 by #P right-hand side, zero on held axes and contact normals
+  /// @param x  3 by #P solution, zero on held axes and contact normals, written
   /// @return CG iterations and relative residual (0 and 0 for ldlt)
   CgResult solve(const Model& m, const ImplicitMatrix& a, const SpringLinearization& lin_k,
                  const SpringLinearization& lin_d, double h, const Matrix3X& b, Matrix3X& x,
-                 double tolerance, int max_iterations);
+                 double tolerance, int max_iterations,
+                 const std::vector<ContactConstraint>& contacts);
 
   /// False when the last ldlt factorisation failed (A not positive definite numerically).
   bool ok() const { return m_ok; }
@@ -34,7 +38,8 @@ class NewtonLinearSolver {
  private:
   CgResult solve_cg(const Model& m, const ImplicitMatrix& a, const SpringLinearization& lin_k,
                     const SpringLinearization& lin_d, double h, const Matrix3X& b, Matrix3X& x,
-                    double tolerance, int max_iterations);
+                    double tolerance, int max_iterations,
+                    const std::vector<ContactConstraint>& contacts);
 
   LinearSolver m_solver;
   bool m_analyzed = false;

@@ -73,6 +73,7 @@ SolverOptions line_search_options(LinearSolver solver) {
   o.newton_iterations = kLineSearchNewtonIterations;
   o.cg_tolerance = kLineSearchCgTolerance;
   o.cg_forcing = CgForcing::adaptive;
+  o.contacts_in_solve = true;
   o.linear_solver = solver;
   return o;
 }

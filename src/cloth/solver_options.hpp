@@ -53,6 +53,7 @@ struct SolverOptions {
   double cg_tolerance = 1e-8;               // implicit-euler: relative residual |S r| / |S b|
   int cg_max_iterations = 2000;             // implicit-euler
   CgForcing cg_forcing = CgForcing::fixed;  // implicit-euler, line-search
+  bool contacts_in_solve = false;           // implicit-euler, line-search: contact_constraints.hpp
   bool clamp_compressed = true;             // implicit-euler: drop negative transverse stiffness
   int substeps = 1;                         // xpbd: substeps per step
   int iterations = 10;  // xpbd: sweeps per substep; projective: local/global iterations

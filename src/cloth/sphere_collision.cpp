@@ -24,7 +24,7 @@ double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Mat
       const Vector3 nrm = dist > 0 ? Vector3(d / dist) : Vector3::UnitY();
       const Vector3 target = c + shell * nrm;
       x.col(p) += free.col(p).cwiseProduct(target - x.col(p));
-      if (tally) ++tally->contacts;
+      if (tally) tally->count(p);
       // restitution and friction act on the velocity relative to the sphere
       const Vector3 vold = v.col(p);
       if ((vold - vs).dot(nrm) >= 0) continue;  // not approaching

@@ -42,8 +42,15 @@ inline ContactVelocity contact_velocity(const Vector3& vold, const Vector3& vs, 
 /// What a contact pass touched: counted only for the particles in contact, so that a pass
 /// over particles far from every collider costs nothing more.
 struct ContactTally {
-  int contacts = 0;                   // particle-collider contacts (within the shell)
-  Vector3 impulse = Vector3::Zero();  // N s, the colliders' impulse on the cloth
+  int contacts = 0;                      // particle-collider contacts (within the shell)
+  Vector3 impulse = Vector3::Zero();     // N s, the colliders' impulse on the cloth
+  std::vector<char>* touched = nullptr;  // when given (#P), set for every particle counted
+
+  /// Counts particle p's contact.
+  void count(Eigen::Index p) {
+    ++contacts;
+    if (touched) (*touched)[static_cast<size_t>(p)] = 1;
+  }
 };
 
 /// Resolves contact of every particle with every sphere at time t (s).

@@ -8,12 +8,26 @@
 
 namespace clothbench {
 
-const Keys kTopKeys = {
-    "name",          "description",   "duration",  "frame_interval", "snapshot_interval",
-    "animation_interval",
-    "blowup_strain", "blowup_energy", "reference", "gravity",        "cloth",
-    "constraint",    "sphere",        "engine",    "wind",           "plane",
-    "box",           "capsule",       "cylinder",  "handle"};
+const Keys kTopKeys = {"name",
+                       "description",
+                       "duration",
+                       "frame_interval",
+                       "snapshot_interval",
+                       "animation_interval",
+                       "blowup_strain",
+                       "blowup_energy",
+                       "reference",
+                       "gravity",
+                       "cloth",
+                       "constraint",
+                       "sphere",
+                       "engine",
+                       "wind",
+                       "plane",
+                       "box",
+                       "capsule",
+                       "cylinder",
+                       "handle"};
 const Keys kClothKeys = {"particles",  "size",      "center",  "plane",   "particle_mass",
                          "total_mass", "stiffness", "damping", "air_drag"};
 const Keys kStiffnessKeys = {"structural", "shear", "bend"};
@@ -34,6 +48,7 @@ const Keys kSoftbodyStiffness = {"matched", "klst"};
 const Keys kNewtonMethods = {"linearized", "line-search"};
 const Keys kLinearSolvers = {"auto", "cg", "block-jacobi-cg", "ldlt"};
 const Keys kCgForcings = {"fixed", "adaptive"};
+const Keys kContactModes = {"in-solve", "after-step"};
 
 Keys engine_kind_names() {
   Keys k;

@@ -37,6 +37,7 @@ extern const Keys kSoftbodyStiffness;
 extern const Keys kNewtonMethods;
 extern const Keys kLinearSolvers;
 extern const Keys kCgForcings;
+extern const Keys kContactModes;
 
 /// The names of the engine kinds, in engine_kind_table() order.
 Keys engine_kind_names();

@@ -325,6 +325,18 @@ void read_cg_forcing(const Reader& r, const At& at, cloth::SolverOptions& o) {
            "residual to adapt to)");
 }
 
+/// contacts: in the solve by default with line-search, which alone can hold them there.
+void read_contacts(const Reader& r, const At& at, cloth::SolverOptions& o) {
+  const bool line_search = o.newton == cloth::NewtonMethod::line_search;
+  const std::string mode =
+      r.choice(at, "contacts", line_search ? "in-solve" : "after-step", kContactModes);
+  o.contacts_in_solve = mode == "in-solve";
+  if (o.contacts_in_solve && !line_search)
+    r.fail(at.table.get("contacts"), at.key("contacts"),
+           "\"in-solve\" needs newton = \"line-search\" (the linearized step resolves contacts "
+           "after the step)");
+}
+
 /// The options of e's kind, read from t.
 void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
   switch (e.kind) {
@@ -344,6 +356,7 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
       o.cg_tolerance = r.number(at, "cg_tolerance", cg_default, kPositive);
       o.cg_max_iterations = r.integer(at, "cg_max_iterations", o.cg_max_iterations, 1);
       read_cg_forcing(r, at, o);
+      read_contacts(r, at, o);
       o.clamp_compressed = r.boolean(at, "clamp_compressed", o.clamp_compressed);
       // each step costs substeps x iterations sweeps: bounded so that a step always ends
       o.substeps = r.integer(at, "substeps", o.substeps, 1, kMaxSolverIterations);

@@ -29,6 +29,7 @@ void write_custom_options(std::ostream& o, const cloth::SolverOptions& so) {
     << "cg_tolerance = " << toml_double(so.cg_tolerance) << "\n"
     << "cg_max_iterations = " << so.cg_max_iterations << "\n"
     << "cg_forcing = " << toml_string(cloth::cg_forcing_name(so.cg_forcing)) << "\n"
+    << "contacts = " << toml_string(so.contacts_in_solve ? "in-solve" : "after-step") << "\n"
     << "clamp_compressed = " << (so.clamp_compressed ? "true" : "false") << "\n"
     << "substeps = " << so.substeps << "  # xpbd\n"
     << "iterations = " << so.iterations << "  # xpbd (per substep), projective\n";
@@ -163,7 +164,8 @@ std::string scenario_to_toml(const Scenario& s) {
         << "line_search = " << (e.bullet.line_search ? "true" : "false") << "\n"
         << "projection = " << (e.bullet.projection ? "true" : "false") << "\n";
     } else if (e.kind == EngineKind::bullet_softbody) {
-      o << "stiffness = " << toml_string(reference::softbody_stiffness_name(e.bullet.stiffness)) << "\n"
+      o << "stiffness = " << toml_string(reference::softbody_stiffness_name(e.bullet.stiffness))
+        << "\n"
         << "klst = " << d(e.bullet.klst) << "\n"
         << "iterations = " << e.bullet.iterations << "\n";
     }

@@ -121,6 +121,7 @@ void check_same_scenario(const Scenario& a, const Scenario& b) {
     CHECK(e.solver.cg_tolerance == f.solver.cg_tolerance);
     CHECK(e.solver.cg_max_iterations == f.solver.cg_max_iterations);
     CHECK(e.solver.cg_forcing == f.solver.cg_forcing);
+    CHECK(e.solver.contacts_in_solve == f.solver.contacts_in_solve);
     CHECK(e.solver.clamp_compressed == f.solver.clamp_compressed);
     CHECK(e.bullet.implicit == f.bullet.implicit);
     CHECK(e.bullet.line_search == f.bullet.line_search);
@@ -201,8 +202,7 @@ TEST_CASE("structurally extreme TOML is refused before the parser sees it", "[sc
                                "nested more than 64 deep"));
 }
 
-TEST_CASE("a --set value that is not valid UTF-8 is refused, not an internal error",
-          "[scenario]") {
+TEST_CASE("a --set value that is not valid UTF-8 is refused, not an internal error", "[scenario]") {
   // found by scripts/fuzz (tests/data/fuzz/overrides/): the bare-word fallback's parse threw
   const std::string bad = std::string("name=frampectkiur= ") + char(0x97) + "(";
   CHECK_THAT(error_of([&] { load_scenario(seed_path(), {bad}); }),
@@ -331,7 +331,8 @@ TEST_CASE("the seed scenario is the engine's seed scene", "[scenario]") {
   CHECK(s.engines[6].bullet.stiffness == clothbench::reference::SoftbodyStiffness::matched);
 }
 
-TEST_CASE("keeping engines by name: a misspelt name is refused with the nearest one", "[scenario]") {
+TEST_CASE("keeping engines by name: a misspelt name is refused with the nearest one",
+          "[scenario]") {
   try {
     load_scenario(seed_path(), {}, {"custom-midpiont"});
     FAIL("expected a ScenarioError");
