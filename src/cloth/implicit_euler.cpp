@@ -136,7 +136,6 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
   const bool adaptive = o.cg_forcing == CgForcing::adaptive;
   double eta = adaptive ? std::max(o.cg_tolerance, kForcingMax) : o.cg_tolerance;
   double residual_before = m_residual;
-  bool residual_current = true;  // m_rhs and m_impulse belong to m_v
   for (int it = 0; it < o.newton_iterations && m_residual > o.newton_tolerance; ++it) {
     ++counters.newton_iterations;
     if (adaptive && it > 0) eta = next_forcing(eta, m_residual / residual_before, o.cg_tolerance);
@@ -149,16 +148,11 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
       remove_normal_parts(m_contacts, m_dv);
       slope = m_dv.cwiseProduct(m_rhs).sum();
     }
-    residual_current = false;
+    // a failed line search leaves m_v, so m_rhs and m_impulse still belong to it
     if (!line_search(m, h, slope, counters)) break;
     ++counters.force_evals;
     m_residual = residual(m, h, m_v);
-    residual_current = true;
     m_history.push_back(m_phi);
-  }
-  if (!residual_current && !m_contacts.empty()) {
-    ++counters.force_evals;
-    residual(m, h, m_v);
   }
   finish_contacts(x.cols());
   // held axes have v = 0 exactly, so x stays x0 there

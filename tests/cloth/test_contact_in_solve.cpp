@@ -97,3 +97,19 @@ TEST_CASE("contacts in the solve take energy out of a heavy drape at 1/30 s, nev
   // resolved only after the step, the same scene creates energy every step (README)
   CHECK(after_step > 0.1 * scale);
 }
+
+TEST_CASE("a rising floor carries the cloth lying on it inside the solve",
+          "[colliders][integrator]") {
+  Scene s = cloth_on_floor();
+  constexpr double kRise = 0.5;  // m/s
+  s.shapes.planes[0].velocity = {0.0, kRise, 0.0};
+  MassSpringCloth c(s, line_search_options(LinearSolver::block_jacobi_cg));
+  for (int step = 0; step < 10; ++step) c.step(kFrame);
+  // on the moving shell, at the floor's velocity, every particle held in the solve
+  REQUIRE(static_cast<int>(c.newton()->contacts().size()) == c.model().particle_count());
+  const double shell = s.shapes.planes[0].margin + kRise * c.time();
+  CHECK(c.positions().row(1).minCoeff() == Approx(shell).epsilon(1e-12));
+  CHECK(c.positions().row(1).maxCoeff() == Approx(shell).epsilon(1e-12));
+  CHECK(c.velocities().row(1).minCoeff() == Approx(kRise).epsilon(1e-9));
+  CHECK(c.velocities().row(1).maxCoeff() == Approx(kRise).epsilon(1e-9));
+}
