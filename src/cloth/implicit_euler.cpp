@@ -136,7 +136,11 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
   const bool adaptive = o.cg_forcing == CgForcing::adaptive;
   double eta = adaptive ? std::max(o.cg_tolerance, kForcingMax) : o.cg_tolerance;
   double residual_before = m_residual;
-  for (int it = 0; it < o.newton_iterations && m_residual > o.newton_tolerance; ++it) {
+  // the tolerance is on the residual's acceleration, |M^-1 residual| / h, so that what a
+  // converged step leaves shrinks with the step (a velocity tolerance would leave its own
+  // error T tolerance over a run, whatever h)
+  const double velocity_tolerance = o.newton_tolerance * h;
+  for (int it = 0; it < o.newton_iterations && m_residual > velocity_tolerance; ++it) {
     ++counters.newton_iterations;
     if (adaptive && it > 0) eta = next_forcing(eta, m_residual / residual_before, o.cg_tolerance);
     residual_before = m_residual;

@@ -47,8 +47,8 @@ std::optional<CgForcing> parse_cg_forcing(std::string_view name);
 struct SolverOptions {
   Integrator integrator = Integrator::rk4;
   NewtonMethod newton = NewtonMethod::linearized;  // implicit-euler
-  int newton_iterations = 1;       // implicit-euler: limit; linearized with 1 is Baraff and Witkin
-  double newton_tolerance = 1e-2;  // implicit-euler, line-search: max |M^-1 residual| (m/s)
+  int newton_iterations = 1;      // implicit-euler: limit; linearized with 1 is Baraff and Witkin
+  double newton_tolerance = 0.3;  // implicit-euler, line-search: max |M^-1 residual| / h (m/s^2)
   LinearSolver linear_solver = LinearSolver::automatic;  // implicit-euler
   double cg_tolerance = 1e-8;               // implicit-euler: relative residual |S r| / |S b|
   int cg_max_iterations = 2000;             // implicit-euler

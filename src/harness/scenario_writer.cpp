@@ -24,7 +24,7 @@ void write_custom_options(std::ostream& o, const cloth::SolverOptions& so) {
   o << "integrator = " << toml_string(cloth::integrator_name(so.integrator)) << "\n"
     << "newton = " << toml_string(cloth::newton_method_name(so.newton)) << "\n"
     << "newton_iterations = " << so.newton_iterations << "\n"
-    << "newton_tolerance = " << toml_double(so.newton_tolerance) << "  # m/s\n"
+    << "newton_tolerance = " << toml_double(so.newton_tolerance) << "  # m/s^2\n"
     << "linear_solver = " << toml_string(cloth::linear_solver_name(so.linear_solver)) << "\n"
     << "cg_tolerance = " << toml_double(so.cg_tolerance) << "\n"
     << "cg_max_iterations = " << so.cg_max_iterations << "\n"

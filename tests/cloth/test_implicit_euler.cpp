@@ -112,7 +112,7 @@ TEST_CASE("adaptive forcing reaches the tight solves' step with fewer CG iterati
     SolverOptions o = line_search_options(LinearSolver::block_jacobi_cg);
     o.cg_forcing = forcing;
     o.cg_tolerance = 1e-10;
-    o.newton_tolerance = kResidual;
+    o.newton_tolerance = kResidual / kFrame;  // m/s^2
     o.newton_iterations = 2000;
     MassSpringCloth c(scene, o);
     c.set_state(start.positions(), start.velocities());
