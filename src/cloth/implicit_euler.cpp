@@ -21,7 +21,7 @@ LinearSolver resolved_linear_solver(LinearSolver s) {
 }
 
 ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o)
-    : m_matrix(m),
+    : m_matrix(m, resolved_linear_solver(o.linear_solver) == LinearSolver::ldlt),
       m_solver(resolved_linear_solver(o.linear_solver), 3 * Eigen::Index(m.particle_count())),
       m_direct(resolved_linear_solver(o.linear_solver) == LinearSolver::ldlt) {
   const Eigen::Index n = m.particle_count();

@@ -7,14 +7,15 @@ namespace cloth {
 
 namespace {
 
-/// Calls visit(p, q, fi, slot) for every spring, family by family, anchors in order.
-template <class Visit>
-void for_each_spring(const SpringSet& springs, Visit&& visit) {
-  for (size_t fi = 0; fi < springs.families.size(); ++fi) {
-    const SpringFamily& fam = springs.families[fi];
-    for (int p = 0; p < fam.slots(); ++p)
-      if (fam.mask[p] != 0.0) visit(p, p + fam.offset, fi, p);
-  }
+/// The block B = h^2 J + h c d0 d0^T of the spring anchored at p in family fi: J from lin_k,
+/// the damper's direction d0 from lin_d.
+Matrix3 spring_block(const Model& m, const SpringLinearization& lin_k,
+                     const SpringLinearization& lin_d, size_t fi, int p, double h) {
+  const auto& L = lin_k.dirs[fi];
+  const double k = m.springs.families[fi].stiffness, b = L(3, p);
+  const Vector3 d = L.col(p).head<3>(), d0 = lin_d.dirs[fi].col(p).head<3>();
+  return h * h * k * ((1.0 - b) * d * d.transpose() + b * Matrix3::Identity()) +
+         h * m.springs.damping * d0 * d0.transpose();
 }
 
 /// Offset in the value array of entry (row, col); the entry must be in the pattern.
@@ -26,7 +27,8 @@ int entry_offset(const Eigen::SparseMatrix<double>& a, int row, int col) {
 
 }  // namespace
 
-ImplicitMatrix::ImplicitMatrix(const Model& m) {
+ImplicitMatrix::ImplicitMatrix(const Model& m, bool whole) {
+  if (!whole) return;
   const int n = m.particle_count();
   // the pattern: every particle's diagonal block and both off-diagonal blocks of each spring
   std::vector<Eigen::Triplet<double>> t;
@@ -35,7 +37,7 @@ ImplicitMatrix::ImplicitMatrix(const Model& m) {
       for (int c = 0; c < 3; ++c) t.emplace_back(3 * p + r, 3 * q + c, 0.0);
   };
   for (int p = 0; p < n; ++p) add_block(p, p);
-  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
+  for_each_spring(m.springs, [&](int p, int q, size_t) {
     add_block(p, q);
     add_block(q, p);
   });
@@ -47,7 +49,7 @@ ImplicitMatrix::ImplicitMatrix(const Model& m) {
     for (int c = 0; c < 3; ++c) out.push_back(entry_offset(m_a, 3 * p, 3 * q + c));
   };
   for (int p = 0; p < n; ++p) block_slots(p, p, m_diag_slots);
-  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
+  for_each_spring(m.springs, [&](int p, int q, size_t) {
     for (auto [r, c] : {std::pair{p, p}, {q, q}, {p, q}, {q, p}}) block_slots(r, c, m_spring_slots);
   });
   // held axes: identity row and column
@@ -70,15 +72,9 @@ void ImplicitMatrix::assemble(const Model& m, const SpringLinearization& lin_k,
   for (int p = 0; p < m.particle_count(); ++p)
     for (int c = 0; c < 3; ++c) val[m_diag_slots[3 * p + c] + c] = m.mass[p] + h * m.air_drag;
   // each spring's block B = h^2 J + h c d0 d0^T: +B on both diagonal blocks, -B off them
-  const double c_damp = m.springs.damping;
   int s = 0;
-  for_each_spring(m.springs, [&](int, int, size_t fi, int slot) {
-    const auto& L = lin_k.dirs[fi];
-    const auto& L0 = lin_d.dirs[fi];
-    const double k = m.springs.families[fi].stiffness, b = L(3, slot);
-    const Vector3 d = L.col(slot).head<3>(), d0 = L0.col(slot).head<3>();
-    const Matrix3 block = h * h * k * ((1.0 - b) * d * d.transpose() + b * Matrix3::Identity()) +
-                          h * c_damp * d0 * d0.transpose();
+  for_each_spring(m.springs, [&](int p, int, size_t fi) {
+    const Matrix3 block = spring_block(m, lin_k, lin_d, fi, p, h);
     const int* slots = &m_spring_slots[12 * s++];
     for (int blk = 0; blk < 4; ++blk) {
       const double sign = blk < 2 ? 1.0 : -1.0;
@@ -107,22 +103,11 @@ void ImplicitMatrix::assemble_diagonal_blocks(const Model& m, const SpringLinear
   for (int p = 0; p < n; ++p)
     m_blocks.middleCols<3>(3 * p).diagonal().setConstant(m.mass[p] + h * m.air_drag);
   // each spring's block B = h^2 J + h c d0 d0^T on both ends' diagonal blocks
-  const double c_damp = m.springs.damping;
-  for (size_t fi = 0; fi < m.springs.families.size(); ++fi) {
-    const SpringFamily& fam = m.springs.families[fi];
-    const auto& L = lin_k.dirs[fi];
-    const auto& L0 = lin_d.dirs[fi];
-    const double hhk = h * h * fam.stiffness, hc = h * c_damp;
-    for (int p = 0; p < fam.slots(); ++p) {
-      if (fam.mask[p] == 0.0) continue;
-      const double b = L(3, p);
-      const Vector3 d = L.col(p).head<3>(), d0 = L0.col(p).head<3>();
-      const Matrix3 block = hhk * ((1.0 - b) * d * d.transpose() + b * Matrix3::Identity()) +
-                            hc * d0 * d0.transpose();
-      m_blocks.middleCols<3>(3 * p) += block;
-      m_blocks.middleCols<3>(3 * (p + fam.offset)) += block;
-    }
-  }
+  for_each_spring(m.springs, [&](int p, int q, size_t fi) {
+    const Matrix3 block = spring_block(m, lin_k, lin_d, fi, p, h);
+    m_blocks.middleCols<3>(3 * p) += block;
+    m_blocks.middleCols<3>(3 * q) += block;
+  });
   // held axes: identity row and column, as in assemble()
   for (int p = 0; p < n; ++p)
     for (int r = 0; r < 3; ++r)
@@ -136,19 +121,24 @@ void ImplicitMatrix::assemble_diagonal_blocks(const Model& m, const SpringLinear
 void ImplicitMatrix::apply_contacts(const Model& m, const std::vector<ContactConstraint>& contacts,
                                     bool whole) {
   if (contacts.empty()) return;
-  // S per particle: the identity unless in contact
-  std::vector<Matrix3> filter(m.particle_count(), Matrix3::Identity());
-  std::vector<char> touching(m.particle_count(), 0);
+  for (const ContactConstraint& c : contacts) {
+    auto block = m_blocks.middleCols<3>(3 * Eigen::Index(c.particle));
+    const Matrix3 s = Matrix3::Identity() - c.normal * c.normal.transpose();
+    block = s * block * s + c.normal * c.normal.transpose();
+  }
+  if (!whole) return;
+  // S per particle, the identity unless in contact: kept across calls, set for these contacts
+  // and reset at the end
+  if (m_filter.empty()) {
+    m_filter.assign(static_cast<size_t>(m.particle_count()), Matrix3::Identity());
+    m_touching.assign(static_cast<size_t>(m.particle_count()), 0);
+  }
+  std::vector<Matrix3>& filter = m_filter;
+  std::vector<char>& touching = m_touching;
   for (const ContactConstraint& c : contacts) {
     filter[c.particle] -= c.normal * c.normal.transpose();
     touching[c.particle] = 1;
   }
-  for (const ContactConstraint& c : contacts) {
-    auto block = m_blocks.middleCols<3>(3 * Eigen::Index(c.particle));
-    const Matrix3& s = filter[c.particle];
-    block = s * block * s + c.normal * c.normal.transpose();
-  }
-  if (!whole) return;
   double* val = m_a.valuePtr();
   auto transform = [&](const int* slots, int p, int q, bool diagonal) {
     Matrix3 b;
@@ -161,14 +151,17 @@ void ImplicitMatrix::apply_contacts(const Model& m, const std::vector<ContactCon
   };
   // the off-diagonal blocks pq and qp of every spring with an end in contact
   int s = 0;
-  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
+  for_each_spring(m.springs, [&](int p, int q, size_t) {
     const int* slots = &m_spring_slots[12 * s++];
     if (!touching[p] && !touching[q]) return;
     transform(slots + 6, p, q, false);
     transform(slots + 9, q, p, false);
   });
-  for (const ContactConstraint& c : contacts)
+  for (const ContactConstraint& c : contacts) {
     transform(&m_diag_slots[3 * Eigen::Index(c.particle)], c.particle, c.particle, true);
+    filter[c.particle].setIdentity();
+    touching[c.particle] = 0;
+  }
 }
 
 void ImplicitMatrix::diagonal_block_inverses(Eigen::Matrix<double, 3, Eigen::Dynamic>& inv) const {

@@ -21,7 +21,9 @@ namespace cloth {
 class ImplicitMatrix {
  public:
   /// Builds the pattern of m's springs (3 #P by 3 #P).
-  explicit ImplicitMatrix(const Model& m);
+  /// @param whole  false: only the diagonal blocks will be assembled (assemble_diagonal_blocks;
+  ///               assemble() and apply_contacts(whole) are then not to be called)
+  explicit ImplicitMatrix(const Model& m, bool whole = true);
 
   /// Fills A's values for step h.
   /// @param lin_k  linearisation giving K (the Newton iterate)
@@ -55,6 +57,8 @@ class ImplicitMatrix {
 
   Eigen::SparseMatrix<double> m_a;
   Eigen::Matrix<double, 3, Eigen::Dynamic> m_blocks;
+  std::vector<Matrix3> m_filter;    // apply_contacts(whole): per particle I - n n^T, or I
+  std::vector<char> m_touching;     // apply_contacts(whole): per particle, 1 if in contact
   std::vector<int> m_spring_slots;  // per spring 4 blocks (pp, qq, pq, qp) by 3 columns
   std::vector<int> m_diag_slots;    // per particle and column, the offset of row 3 p
   std::vector<int> m_held_zero;     // off-diagonal entries in a held row or column

@@ -27,16 +27,13 @@ Triplets system_entries(const Model& m, double h) {
   Triplets t;
   for (Eigen::Index i = 0; i < m.mass.size(); ++i)
     t.emplace_back(int(i), int(i), m.mass[i] / (h * h) + m.air_drag / h);
-  for (const SpringFamily& fam : m.springs.families)
-    for (int a = 0; a < fam.slots(); ++a) {
-      if (fam.mask[a] == 0.0) continue;
-      const int b = a + fam.offset;
-      const double k = fam.stiffness + m.springs.damping / h;
-      t.emplace_back(a, a, k);
-      t.emplace_back(b, b, k);
-      t.emplace_back(a, b, -k);
-      t.emplace_back(b, a, -k);
-    }
+  for_each_spring(m.springs, [&](int a, int b, size_t fi) {
+    const double k = m.springs.families[fi].stiffness + m.springs.damping / h;
+    t.emplace_back(a, a, k);
+    t.emplace_back(b, b, k);
+    t.emplace_back(a, b, -k);
+    t.emplace_back(b, a, -k);
+  });
   return t;
 }
 
@@ -91,17 +88,14 @@ void ProjectiveSolver::add_velocity_forces(const Model& m, double h, const Matri
   // the matrix's part, so the lagged iteration contracts whatever the damping.
   const double ch = m.springs.damping / h;
   if (ch != 0.0) {
-    for (const SpringFamily& fam : m.springs.families)
-      for (int a = 0; a < fam.slots(); ++a) {
-        if (fam.mask[a] == 0.0) continue;
-        const int b = a + fam.offset;
-        const Vector3 d0 = m_x0.col(b) - m_x0.col(a);
-        const Vector3 n = d0.normalized();
-        const Vector3 du = (x.col(b) - m_x0.col(b)) - (x.col(a) - m_x0.col(a));
-        const Vector3 pull = ch * (d0 + du - n * n.dot(du));
-        rhs.col(b) += pull;
-        rhs.col(a) -= pull;
-      }
+    for_each_spring(m.springs, [&](int a, int b, size_t) {
+      const Vector3 d0 = m_x0.col(b) - m_x0.col(a);
+      const Vector3 n = d0.normalized();
+      const Vector3 du = (x.col(b) - m_x0.col(b)) - (x.col(a) - m_x0.col(a));
+      const Vector3 pull = ch * (d0 + du - n * n.dot(du));
+      rhs.col(b) += pull;
+      rhs.col(a) -= pull;
+    });
   }
   // air drag -drag ((x - x0) / h - wind): implicit in the matrix's diagonal
   if (m.air_drag != 0.0) {
@@ -111,17 +105,15 @@ void ProjectiveSolver::add_velocity_forces(const Model& m, double h, const Matri
 }
 
 void ProjectiveSolver::add_projections(const Model& m, const Matrix3X& x, Matrix3X& rhs) const {
-  for (const SpringFamily& fam : m.springs.families)
-    for (int a = 0; a < fam.slots(); ++a) {
-      if (fam.mask[a] == 0.0) continue;
-      const int b = a + fam.offset;
-      const Vector3 d = x.col(b) - x.col(a);
-      const double len = d.norm();
-      if (!(len > 0.0)) continue;
-      const Vector3 kd = fam.stiffness * fam.rest[a] / len * d;
-      rhs.col(b) += kd;
-      rhs.col(a) -= kd;
-    }
+  for_each_spring(m.springs, [&](int a, int b, size_t fi) {
+    const Vector3 d = x.col(b) - x.col(a);
+    const double len = d.norm();
+    if (!(len > 0.0)) return;
+    const SpringFamily& fam = m.springs.families[fi];
+    const Vector3 kd = fam.stiffness * fam.rest[a] / len * d;
+    rhs.col(b) += kd;
+    rhs.col(a) -= kd;
+  });
 }
 
 double ProjectiveSolver::step(const Model& m, const SolverOptions& o, double h, Matrix3X& x,

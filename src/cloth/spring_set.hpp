@@ -56,6 +56,17 @@ struct SpringSet {
   std::vector<SpringLink> links() const;
 };
 
+/// Calls visit(p, q, fi) for every spring, joining anchor p to q = p + offset in family fi:
+/// family by family, anchors in order, the order of every per-spring array.
+template <class Visit>
+void for_each_spring(const SpringSet& springs, Visit&& visit) {
+  for (size_t fi = 0; fi < springs.families.size(); ++fi) {
+    const SpringFamily& fam = springs.families[fi];
+    for (int p = 0; p < fam.slots(); ++p)
+      if (fam.mask[p] != 0.0) visit(p, p + fam.offset, fi);
+  }
+}
+
 /// Builds the families of a grid whose rest shape is x0.
 /// @param c   grid size and stiffnesses (a kind with stiffness 0 gets no springs)
 /// @param x0  3 by #P rest positions (m)

@@ -312,29 +312,28 @@ void check_engine_keys(const Reader& r, const toml::table& t, const EngineSpec& 
   }
 }
 
-/// cg_forcing: adaptive by default with line-search, which alone has a Newton residual to
-/// adapt to.
-void read_cg_forcing(const Reader& r, const At& at, cloth::SolverOptions& o) {
+/// A choice whose value only is what newton = "line-search" alone can do: its default there,
+/// `otherwise` in linearized mode, where only is refused (why says why).
+std::string read_line_search_choice(const Reader& r, const At& at, const cloth::SolverOptions& o,
+                                    const char* key, const Keys& choices, const char* only,
+                                    const char* otherwise, const char* why) {
   const bool line_search = o.newton == cloth::NewtonMethod::line_search;
-  const cloth::CgForcing def = line_search ? cloth::CgForcing::adaptive : cloth::CgForcing::fixed;
-  o.cg_forcing = *cloth::parse_cg_forcing(
-      r.choice(at, "cg_forcing", cloth::cg_forcing_name(def), kCgForcings));
-  if (o.cg_forcing == cloth::CgForcing::adaptive && !line_search)
-    r.fail(at.table.get("cg_forcing"), at.key("cg_forcing"),
-           "\"adaptive\" needs newton = \"line-search\" (the linearized step has no Newton "
-           "residual to adapt to)");
+  std::string value = r.choice(at, key, line_search ? only : otherwise, choices);
+  if (value == only && !line_search)
+    r.fail(at.table.get(key), at.key(key),
+           "\"" + value + "\" needs newton = \"line-search\" (" + why + ")");
+  return value;
 }
 
-/// contacts: in the solve by default with line-search, which alone can hold them there.
-void read_contacts(const Reader& r, const At& at, cloth::SolverOptions& o) {
-  const bool line_search = o.newton == cloth::NewtonMethod::line_search;
-  const std::string mode =
-      r.choice(at, "contacts", line_search ? "in-solve" : "after-step", kContactModes);
-  o.contacts_in_solve = mode == "in-solve";
-  if (o.contacts_in_solve && !line_search)
-    r.fail(at.table.get("contacts"), at.key("contacts"),
-           "\"in-solve\" needs newton = \"line-search\" (the linearized step resolves contacts "
-           "after the step)");
+/// cg_forcing and contacts: adaptive forcing and contacts in the solve by default with
+/// line-search.
+void read_line_search_keys(const Reader& r, const At& at, cloth::SolverOptions& o) {
+  o.cg_forcing = *cloth::parse_cg_forcing(
+      read_line_search_choice(r, at, o, "cg_forcing", kCgForcings, "adaptive", "fixed",
+                              "the linearized step has no Newton residual to adapt to"));
+  o.contacts_in_solve =
+      read_line_search_choice(r, at, o, "contacts", kContactModes, "in-solve", "after-step",
+                              "the linearized step resolves contacts after the step") == "in-solve";
 }
 
 /// The options of e's kind, read from t.
@@ -355,8 +354,7 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
           at, "linear_solver", cloth::linear_solver_name(o.linear_solver), kLinearSolvers));
       o.cg_tolerance = r.number(at, "cg_tolerance", cg_default, kPositive);
       o.cg_max_iterations = r.integer(at, "cg_max_iterations", o.cg_max_iterations, 1);
-      read_cg_forcing(r, at, o);
-      read_contacts(r, at, o);
+      read_line_search_keys(r, at, o);
       o.clamp_compressed = r.boolean(at, "clamp_compressed", o.clamp_compressed);
       // each step costs substeps x iterations sweeps: bounded so that a step always ends
       o.substeps = r.integer(at, "substeps", o.substeps, 1, kMaxSolverIterations);

@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
+#include "cloth/energies.hpp"
 #include "cloth/mass_spring_cloth.hpp"
-#include "cloth/spring_forces.hpp"
 #include "test_scenes.hpp"
 
 using namespace cloth;
@@ -26,12 +26,7 @@ Scene cloth_on_floor() {
 
 /// Kinetic + gravity + elastic energy of the state (J).
 double mechanical_energy(const MassSpringCloth& c) {
-  const Model& m = c.model();
-  double e = elastic_energy(m.springs, c.positions());
-  for (Eigen::Index p = 0; p < m.particle_count(); ++p)
-    e += 0.5 * m.mass[p] * c.velocities().col(p).squaredNorm() -
-         m.mass[p] * m.gravity.dot(c.positions().col(p));
-  return e;
+  return compute_energies(c.model(), c.positions(), c.velocities()).total();
 }
 
 }  // namespace
