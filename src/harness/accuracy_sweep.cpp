@@ -297,9 +297,8 @@ void run_references(const Scenes& scenes, ReferenceJobs& refs, int jobs, Progres
   for (const RefJob& j : refs.jobs) {
     if (j.run.stable) continue;
     const Scenario& s = scenes.scenario(j.grid);
-    const std::string what = "the reference (rk4 at dt = " + format_double(j.spec.dt) +
-                             " s on " + grid_name(s.scene.cloth.nu, s.scene.cloth.nv) +
-                             " particles)";
+    const std::string what = "the reference (rk4 at dt = " + format_double(j.spec.dt) + " s on " +
+                             grid_name(s.scene.cloth.nu, s.scene.cloth.nv) + " particles)";
     if (j.run.timed_out)
       throw UserError(what + " did not finish within --max-run-seconds " +
                       format_double(s.max_run_seconds) +

@@ -24,7 +24,7 @@ struct EngineRun {
   std::vector<double> snapshot_times;      // s
   std::vector<cloth::Matrix3X> snapshots;  // 3 by #P at those times
   cloth::Counters counters;
-  double wall_s = 0;  // s spent in step() alone
+  double wall_s = 0;       // s spent in step() alone
   bool stable = true;      // false after a blow-up or a timeout
   bool timed_out = false;  // stopped after Scenario::max_run_seconds (stable is false,
                            // blowup_t NaN)

@@ -32,7 +32,7 @@ struct HandleSpec {
 
 /// One engine of a scenario.
 struct EngineSpec {
-  std::string name;             // unique within the scenario
+  std::string name;  // unique within the scenario
   EngineKind kind = EngineKind::custom;
   double dt = 1e-3;                 // s
   cloth::SolverOptions solver;      // kind = custom
@@ -44,17 +44,17 @@ struct EngineSpec {
 struct Scenario {
   std::string name = "scenario";
   std::string description;
-  std::string source;              // file it came from, or "<embedded>"
-  double duration = 1.0;           // s
-  double frame_interval = 0.01;    // s between metric rows
-  double snapshot_interval = 0.0;  // s between full-shape snapshots; 0: initial and final only
+  std::string source;                // file it came from, or "<embedded>"
+  double duration = 1.0;             // s
+  double frame_interval = 0.01;      // s between metric rows
+  double snapshot_interval = 0.0;    // s between full-shape snapshots; 0: initial and final only
   double animation_interval = 0.03;  // s between trajectory frames, a whole number of frames
                                      // (default 1/30 s rounded so); 0: no trajectory
-  double blowup_strain = 1.0;      // a run is unstable once |strain| exceeds this
-  double blowup_energy = 0.1;      // ... or once the energy error exceeds this times the
-                                   // run's EnergyScale (see metrics.hpp)
-  std::string reference;           // engine the others are compared against ("" = the first)
-  cloth::Scene scene;              // scene.held is filled from constraints
+  double blowup_strain = 1.0;        // a run is unstable once |strain| exceeds this
+  double blowup_energy = 0.1;        // ... or once the energy error exceeds this times the
+                                     // run's EnergyScale (see metrics.hpp)
+  std::string reference;             // engine the others are compared against ("" = the first)
+  cloth::Scene scene;                // scene.held is filled from constraints
   std::vector<ConstraintSpec> constraints;
   std::vector<HandleSpec> handles;  // scene.handles is filled from these
   std::vector<EngineSpec> engines;

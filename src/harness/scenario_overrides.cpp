@@ -25,7 +25,6 @@ std::string engine_table_name(const toml::table& t) {
   return derived_engine_name(*k, i.value_or(cloth::Integrator::rk4));
 }
 
-
 std::string trim(std::string_view s) {
   const auto b = s.find_first_not_of(" \t");
   if (b == std::string_view::npos) return "";
@@ -55,8 +54,8 @@ toml::table parse_value(const std::string& text, const std::string& where) {
   try {
     return one_value(toml_string(text));
   } catch (const toml::parse_error& e) {
-    throw ScenarioError(where, "", "cannot read the value as a string: " +
-                                       std::string(e.description()));
+    throw ScenarioError(where, "",
+                        "cannot read the value as a string: " + std::string(e.description()));
   }
 }
 

@@ -47,8 +47,8 @@ class Search {
     unstable(n0);
     // a smaller dt only takes longer: after a timeout the search ends with no stable dt, and
     // no run of more than kMaxSteps steps is made
-    for (int k = 0; k < kMaxHalvings && m_cause != "timeout" &&
-                    double(2 * m_bracket.n_unstable) <= kMaxSteps;
+    for (int k = 0;
+         k < kMaxHalvings && m_cause != "timeout" && double(2 * m_bracket.n_unstable) <= kMaxSteps;
          ++k) {
       if (stable(2 * b.n_unstable)) {
         b.n_stable = 2 * b.n_unstable;
