@@ -12,7 +12,8 @@ namespace cloth {
 /// Outcome of one solve.
 struct CgResult {
   int iterations = 0;
-  double relative_residual = 0;  // |S r| / |S b|
+  double relative_residual = 0;     // |S r| / |S b|
+  bool negative_curvature = false;  // truncate: stopped at a direction p with p^T A p <= 0
 };
 
 /// Work vectors, allocated once (each 3 by #P).
@@ -34,10 +35,12 @@ struct CgWorkspace {
 /// @param project       project(u): u = S u in place, 3 by #P
 /// @param b             3 by #P right-hand side
 /// @param x             3 by #P solution, starts at zero
+/// @param truncate      stop at the first direction p with p^T A p <= 0 (A indefinite), leaving
+///                      x at the last iterate, which lowered the quadratic model (truncated Newton)
 template <class Apply, class Precondition, class Project>
 CgResult projected_pcg(Apply&& apply, Precondition&& precondition, Project&& project,
                        const Matrix3X& b, Matrix3X& x, CgWorkspace& ws, double tolerance,
-                       int max_iterations) {
+                       int max_iterations, bool truncate = false) {
   auto dot = [](const Matrix3X& a, const Matrix3X& c) { return (a.array() * c.array()).sum(); };
   x.setZero();
   ws.r = b;
@@ -52,7 +55,12 @@ CgResult projected_pcg(Apply&& apply, Precondition&& precondition, Project&& pro
   for (int it = 0; it < max_iterations; ++it) {
     apply(ws.p, ws.q);
     project(ws.q);
-    const double alpha = rz / dot(ws.p, ws.q);
+    const double pq = dot(ws.p, ws.q);
+    if (truncate && !(pq > 0.0)) {
+      res.negative_curvature = true;
+      break;
+    }
+    const double alpha = rz / pq;
     x += alpha * ws.p;
     ws.r -= alpha * ws.q;
     res.iterations = it + 1;

@@ -15,15 +15,19 @@ constexpr int kMaxHalvings = 30;
 
 }  // namespace
 
-LinearSolver resolved_linear_solver(LinearSolver s) {
-  // block-jacobi-cg was the fastest at every grid measured, 8 to 64 per edge (README)
-  return s == LinearSolver::automatic ? LinearSolver::block_jacobi_cg : s;
+LinearSolver resolved_linear_solver(LinearSolver s, int particles) {
+  // the coarse grid's setup and solves cost more than they save below about 40 per edge;
+  // ldlt was never the fastest (README, "Large steps")
+  if (s != LinearSolver::automatic) return s;
+  return particles >= kTwoLevelMinParticles ? LinearSolver::two_level_cg
+                                            : LinearSolver::block_jacobi_cg;
 }
 
 ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o)
-    : m_matrix(m, resolved_linear_solver(o.linear_solver) == LinearSolver::ldlt),
-      m_solver(resolved_linear_solver(o.linear_solver), 3 * Eigen::Index(m.particle_count())),
-      m_direct(resolved_linear_solver(o.linear_solver) == LinearSolver::ldlt) {
+    : m_matrix(m,
+               resolved_linear_solver(o.linear_solver, m.particle_count()) == LinearSolver::ldlt),
+      m_solver(m, resolved_linear_solver(o.linear_solver, m.particle_count())),
+      m_direct(resolved_linear_solver(o.linear_solver, m.particle_count()) == LinearSolver::ldlt) {
   const Eigen::Index n = m.particle_count();
   for (Matrix3X* a :
        {&m_x0, &m_v0, &m_v, &m_x, &m_trial, &m_dv, &m_force, &m_damp, &m_zero, &m_buf, &m_rhs})
@@ -98,6 +102,7 @@ void ImplicitEulerNewton::start_step(const Model& m, const SolverOptions& o, dou
   m_v0 = v;
   m_v = v;
   m_contacts.clear();
+  m_solver.start_step();
   if (o.contacts_in_solve) find_contact_constraints(m, t_end, h, x, v, m_released, m_contacts);
   // the first guess x0 + h v0, with each contact's normal velocity fixed
   for (const ContactConstraint& c : m_contacts)
@@ -117,10 +122,25 @@ void ImplicitEulerNewton::newton_direction(const Model& m, const SolverOptions& 
   else
     m_matrix.assemble_diagonal_blocks(m, m_lin, m_lin0, h);
   m_matrix.apply_contacts(m, m_contacts, m_direct);
-  const CgResult cg = m_solver.solve(m, m_matrix, m_lin, m_lin0, h, m_rhs, m_dv, eta,
-                                     o.cg_max_iterations, m_contacts);
-  counters.cg_iterations += cg.iterations;
-  if (cg.relative_residual > eta) ++counters.cg_unconverged;
+  // after the first clamped_iterations, the direction comes from the exact matrix, preconditioned
+  // by the clamped one, and CG stops where the exact matrix curves down (truncated Newton)
+  const int iteration = static_cast<int>(m_history.size()) - 1;
+  const bool exact = !m_direct && o.clamp_compressed && iteration >= o.clamped_iterations;
+  CgResult cg;
+  if (exact) {
+    linearize_springs(m.springs, m_x, false, m_lin_exact);
+    cg = m_solver.solve(m, m_matrix, m_lin_exact, m_lin, m_lin0, h, m_rhs, m_dv, eta,
+                        o.cg_max_iterations, m_contacts, true);
+  }
+  // no step before the first direction of negative curvature: the clamped matrix's direction
+  if (!exact || (cg.negative_curvature && cg.iterations == 0)) {
+    counters.cg_iterations += cg.negative_curvature ? 1 : 0;  // the product that found it
+    cg = m_solver.solve(m, m_matrix, m_lin, m_lin, m_lin0, h, m_rhs, m_dv, eta, o.cg_max_iterations,
+                        m_contacts);
+  }
+  // a stop at negative curvature still made that direction's product
+  counters.cg_iterations += cg.iterations + (cg.negative_curvature ? 1 : 0);
+  if (cg.relative_residual > eta && !cg.negative_curvature) ++counters.cg_unconverged;
   m_dv = (m.free.array() > 0.0).select(m_dv, 0.0);
   remove_normal_parts(m_contacts, m_dv);
 }

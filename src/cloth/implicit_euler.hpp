@@ -11,7 +11,12 @@
 /// Baraff and Witkin's linearised step uses for D, so -grad Phi = h f(x, v) - M (v - v0) is the
 /// backward-Euler residual with that damper, and the Hessian is A = M + h drag - h D0 - h^2 K.
 /// The definiteness fix (clamp_compressed) changes only the matrix's K; Phi and its gradient are
-/// the true ones, so the equilibrium does not move.
+/// the true ones, so the equilibrium does not move. With the fix the Newton model is wrong
+/// wherever springs are compressed, and convergence there is only linear; so after the first
+/// clamped_iterations of a step the CG solvers apply the exact matrix, precondition with the
+/// clamped one, and stop at the first direction of negative curvature (truncated Newton: the
+/// iterate reached is still a descent direction), falling back to the clamped matrix's
+/// direction when that is the very first one.
 
 #include <memory>
 #include <vector>
@@ -24,8 +29,12 @@
 
 namespace cloth {
 
-/// The linear solver that `automatic` means for a line-search step.
-LinearSolver resolved_linear_solver(LinearSolver s);
+/// The smallest cloth (particles) for which `automatic` means two-level-cg.
+constexpr int kTwoLevelMinParticles = 48 * 48;
+
+/// The linear solver that `automatic` means for a line-search step on a cloth of that many
+/// particles: two-level-cg from kTwoLevelMinParticles up, block-jacobi-cg below (README).
+LinearSolver resolved_linear_solver(LinearSolver s, int particles);
 
 /// Newton with line search for one scene; scratch sized once.
 class ImplicitEulerNewton {
@@ -66,7 +75,7 @@ class ImplicitEulerNewton {
 
   ImplicitMatrix m_matrix;
   NewtonLinearSolver m_solver;
-  SpringLinearization m_lin0, m_lin;
+  SpringLinearization m_lin0, m_lin, m_lin_exact;
   Matrix3X m_x0, m_v0, m_v, m_x, m_trial, m_dv, m_force, m_damp, m_zero, m_buf, m_rhs;
   std::vector<double> m_history;
   std::vector<ContactConstraint> m_contacts;

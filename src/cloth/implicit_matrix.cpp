@@ -7,17 +7,6 @@ namespace cloth {
 
 namespace {
 
-/// The block B = h^2 J + h c d0 d0^T of the spring anchored at p in family fi: J from lin_k,
-/// the damper's direction d0 from lin_d.
-Matrix3 spring_block(const Model& m, const SpringLinearization& lin_k,
-                     const SpringLinearization& lin_d, size_t fi, int p, double h) {
-  const auto& L = lin_k.dirs[fi];
-  const double k = m.springs.families[fi].stiffness, b = L(3, p);
-  const Vector3 d = L.col(p).head<3>(), d0 = lin_d.dirs[fi].col(p).head<3>();
-  return h * h * k * ((1.0 - b) * d * d.transpose() + b * Matrix3::Identity()) +
-         h * m.springs.damping * d0 * d0.transpose();
-}
-
 /// Offset in the value array of entry (row, col); the entry must be in the pattern.
 int entry_offset(const Eigen::SparseMatrix<double>& a, int row, int col) {
   const int* begin = a.innerIndexPtr() + a.outerIndexPtr()[col];
@@ -26,6 +15,15 @@ int entry_offset(const Eigen::SparseMatrix<double>& a, int row, int col) {
 }
 
 }  // namespace
+
+Matrix3 spring_block(const Model& m, const SpringLinearization& lin_k,
+                     const SpringLinearization& lin_d, size_t fi, int p, double h) {
+  const auto& L = lin_k.dirs[fi];
+  const double k = m.springs.families[fi].stiffness, b = L(3, p);
+  const Vector3 d = L.col(p).head<3>(), d0 = lin_d.dirs[fi].col(p).head<3>();
+  return h * h * k * ((1.0 - b) * d * d.transpose() + b * Matrix3::Identity()) +
+         h * m.springs.damping * d0 * d0.transpose();
+}
 
 ImplicitMatrix::ImplicitMatrix(const Model& m, bool whole) {
   if (!whole) return;

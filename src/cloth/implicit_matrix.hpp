@@ -17,6 +17,11 @@
 
 namespace cloth {
 
+/// The block B = h^2 J + h c d0 d0^T of the spring anchored at p in family fi, J from lin_k and
+/// the damper's direction d0 from lin_d: A holds +B on both ends' diagonal blocks and -B off them.
+Matrix3 spring_block(const Model& m, const SpringLinearization& lin_k,
+                     const SpringLinearization& lin_d, size_t fi, int p, double h);
+
 /// A in compressed column storage, with the value offsets of every spring's blocks.
 class ImplicitMatrix {
  public:

@@ -11,10 +11,11 @@ namespace {
 const std::array<std::pair<NewtonMethod, const char*>, 2> kNewtonNames = {
     {{NewtonMethod::linearized, "linearized"}, {NewtonMethod::line_search, "line-search"}}};
 
-const std::array<std::pair<LinearSolver, const char*>, 4> kSolverNames = {
+const std::array<std::pair<LinearSolver, const char*>, 5> kSolverNames = {
     {{LinearSolver::automatic, "auto"},
      {LinearSolver::cg, "cg"},
      {LinearSolver::block_jacobi_cg, "block-jacobi-cg"},
+     {LinearSolver::two_level_cg, "two-level-cg"},
      {LinearSolver::ldlt, "ldlt"}}};
 
 const std::array<std::pair<CgForcing, const char*>, 2> kForcingNames = {

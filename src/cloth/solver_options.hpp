@@ -17,9 +17,11 @@ enum class NewtonMethod {
 
 /// Which linear solver implicit Euler uses for each Newton system.
 enum class LinearSolver {
-  automatic,        ///< linearized: cg; line-search: block-jacobi-cg (fastest measured, README)
+  automatic,        ///< linearized: cg; line-search: block-jacobi-cg, two-level-cg from 48 x 48
+                    ///< particles (fastest measured, README)
   cg,               ///< conjugate gradient, Jacobi (diagonal) preconditioner
   block_jacobi_cg,  ///< conjugate gradient, 3 by 3 block-Jacobi preconditioner (assembled matrix)
+  two_level_cg,     ///< block-Jacobi plus a coarse-grid correction (coarse_grid.hpp)
   ldlt              ///< sparse direct LDL^T (Eigen SimplicialLDLT), symbolic factorisation reused
 };
 
@@ -33,7 +35,7 @@ enum class CgForcing {
 const char* newton_method_name(NewtonMethod m);
 /// The method with that name, if any.
 std::optional<NewtonMethod> parse_newton_method(std::string_view name);
-/// "auto", "cg", "block-jacobi-cg", "ldlt".
+/// "auto", "cg", "block-jacobi-cg", "two-level-cg", "ldlt".
 const char* linear_solver_name(LinearSolver s);
 /// The solver with that name, if any.
 std::optional<LinearSolver> parse_linear_solver(std::string_view name);
@@ -55,7 +57,10 @@ struct SolverOptions {
   CgForcing cg_forcing = CgForcing::fixed;  // implicit-euler, line-search
   bool contacts_in_solve = false;           // implicit-euler, line-search: contact_constraints.hpp
   bool clamp_compressed = true;             // implicit-euler: drop negative transverse stiffness
-  int substeps = 1;                         // xpbd: substeps per step
+  int clamped_iterations =
+      2;                // implicit-euler, line-search, CG solvers: Newton iterations per
+                        // step on the clamped matrix before the exact one (implicit_euler.hpp)
+  int substeps = 1;     // xpbd: substeps per step
   int iterations = 10;  // xpbd: sweeps per substep; projective: local/global iterations
 };
 
@@ -67,6 +72,9 @@ constexpr int kLineSearchNewtonIterations = 20;
 constexpr double kLineSearchCgTolerance = 1e-3;
 /// The loosest (and the first) relative residual of adaptive forcing.
 constexpr double kForcingMax = 0.5;
+
+/// two-level-cg: fine particles per coarse-grid interval along each grid axis, at most.
+constexpr int kCoarsening = 8;
 
 /// Eisenstat and Walker's second forcing term (1996; gamma 0.9, exponent 2, their safeguard):
 /// the relative CG residual for the next Newton system.

@@ -14,7 +14,7 @@ const std::vector<EngineKindInfo>& engine_kind_table() {
        "",
        {"integrator", "newton", "newton_iterations", "newton_tolerance", "linear_solver",
         "cg_tolerance", "cg_max_iterations", "cg_forcing", "contacts", "clamp_compressed",
-        "substeps", "iterations"}},
+        "clamped_iterations", "substeps", "iterations"}},
       {EngineKind::bullet_deformable,
        "bullet-deformable",
        false,

@@ -46,7 +46,7 @@ const Keys kPlanes = {"xz", "xy"};
 const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1", "disk", "indices"};
 const Keys kSoftbodyStiffness = {"matched", "klst"};
 const Keys kNewtonMethods = {"linearized", "line-search"};
-const Keys kLinearSolvers = {"auto", "cg", "block-jacobi-cg", "ldlt"};
+const Keys kLinearSolvers = {"auto", "cg", "block-jacobi-cg", "two-level-cg", "ldlt"};
 const Keys kCgForcings = {"fixed", "adaptive"};
 const Keys kContactModes = {"in-solve", "after-step"};
 

@@ -356,6 +356,11 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
       o.cg_max_iterations = r.integer(at, "cg_max_iterations", o.cg_max_iterations, 1);
       read_line_search_keys(r, at, o);
       o.clamp_compressed = r.boolean(at, "clamp_compressed", o.clamp_compressed);
+      o.clamped_iterations = r.integer(at, "clamped_iterations", o.clamped_iterations, 0);
+      if (at.table.get("clamped_iterations") && !line_search)
+        r.fail(at.table.get("clamped_iterations"), at.key("clamped_iterations"),
+               "clamped_iterations needs newton = \"line-search\" (the linearized step always "
+               "uses the clamped matrix)");
       // each step costs substeps x iterations sweeps: bounded so that a step always ends
       o.substeps = r.integer(at, "substeps", o.substeps, 1, kMaxSolverIterations);
       o.iterations = r.integer(at, "iterations", o.iterations, 1, kMaxSolverIterations);

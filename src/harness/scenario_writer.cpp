@@ -33,6 +33,8 @@ void write_custom_options(std::ostream& o, const cloth::SolverOptions& so) {
     << "clamp_compressed = " << (so.clamp_compressed ? "true" : "false") << "\n"
     << "substeps = " << so.substeps << "  # xpbd\n"
     << "iterations = " << so.iterations << "  # xpbd (per substep), projective\n";
+  if (so.newton == cloth::NewtonMethod::line_search)
+    o << "clamped_iterations = " << so.clamped_iterations << "\n";
 }
 
 std::string vec3(const cloth::Vector3& v) {

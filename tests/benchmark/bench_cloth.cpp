@@ -8,7 +8,8 @@
 ///     seed scene at that resolution and the seed's total mass (625 kg) in implicit Euler,
 ///     newton = "line-search", from rest (the cloth's own motion passes strain 1 at 0.358 s at
 ///     128 x 128, README), with Newton iterations per step, CG iterations per Newton iteration
-///     and sim_s_per_s (simulated seconds per wall second). ldlt only at 25 and 64.
+///     and sim_s_per_s (simulated seconds per wall second). Solvers cg, block-jacobi-cg,
+///     two-level-cg and ldlt (ldlt only at 25 and 64).
 ///   BM_newton_fixed_forcing/block-jacobi-cg/<particles per edge>: the same with every Newton
 ///     system solved to cg_tolerance (1e-3), the forcing before adaptive forcing.
 ///   BM_newton_without_sphere/block-jacobi-cg/128: BM_newton's run with the sphere removed.
@@ -125,8 +126,8 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark(("BM_step/" + std::string(integrator_name(integrator))).c_str(),
                                  BM_step, integrator)
         ->Unit(benchmark::kMicrosecond);
-  for (const LinearSolver solver :
-       {LinearSolver::cg, LinearSolver::block_jacobi_cg, LinearSolver::ldlt}) {
+  for (const LinearSolver solver : {LinearSolver::cg, LinearSolver::block_jacobi_cg,
+                                    LinearSolver::two_level_cg, LinearSolver::ldlt}) {
     auto* b = benchmark::RegisterBenchmark(
         ("BM_newton/" + std::string(linear_solver_name(solver))).c_str(), BM_newton, solver,
         CgForcing::adaptive, true);

@@ -15,12 +15,39 @@ namespace {
 
 constexpr double kFrame = 1.0 / 30.0;  // s, the issue's large step
 
+/// Line-search options whose step is one Newton iteration solved to 1e-12: the linear solve.
+SolverOptions one_linear_solve(LinearSolver solver) {
+  SolverOptions o = line_search_options(solver);
+  o.newton_iterations = 1;
+  o.cg_tolerance = 1e-12;
+  o.cg_forcing = CgForcing::fixed;
+  return o;
+}
+
+/// The 24 x 24 seed scene at its 13th frame, folding over the sphere.
+MassSpringCloth folding_cloth() {
+  MassSpringCloth c(seed_scene(24), line_search_options(LinearSolver::block_jacobi_cg));
+  for (int step = 0; step < 13; ++step) c.step(kFrame);
+  return c;
+}
+
+/// One step from start's state with options o, solved until |M^-1 residual| <= residual (m/s).
+MassSpringCloth converged_step(const MassSpringCloth& start, SolverOptions o, double residual) {
+  o.cg_tolerance = 1e-10;
+  o.newton_tolerance = residual / kFrame;  // m/s^2
+  o.newton_iterations = 2000;
+  MassSpringCloth c(seed_scene(24), o);
+  c.set_state(start.positions(), start.velocities());
+  c.step(kFrame);
+  return c;
+}
+
 }  // namespace
 
 TEST_CASE("Newton with line search lowers the incremental potential every iteration",
           "[integrator]") {
-  const LinearSolver solver =
-      GENERATE(LinearSolver::cg, LinearSolver::block_jacobi_cg, LinearSolver::ldlt);
+  const LinearSolver solver = GENERATE(LinearSolver::cg, LinearSolver::block_jacobi_cg,
+                                       LinearSolver::two_level_cg, LinearSolver::ldlt);
   CAPTURE(linear_solver_name(solver));
   // the seed scene at 16 x 16 falls onto the sphere and folds over it within 20 frames
   MassSpringCloth c(seed_scene(16), line_search_options(solver));
@@ -53,16 +80,13 @@ TEST_CASE("the 64 x 64 seed scene stays stable at 1/30 s: no blow-up strain, no 
 }
 
 TEST_CASE("the direct and CG solvers give the same Newton step", "[integrator]") {
-  const LinearSolver cg = GENERATE(LinearSolver::cg, LinearSolver::block_jacobi_cg);
+  const LinearSolver cg =
+      GENERATE(LinearSolver::cg, LinearSolver::block_jacobi_cg, LinearSolver::two_level_cg);
   CAPTURE(linear_solver_name(cg));
   // one Newton iteration from a shaken state: the step is the linear solve itself
   const Scene s = seed_scene(12);
   auto one_step = [&](LinearSolver solver) {
-    SolverOptions o = line_search_options(solver);
-    o.newton_iterations = 1;
-    o.cg_tolerance = 1e-12;
-    o.cg_forcing = CgForcing::fixed;
-    MassSpringCloth c(s, o);
+    MassSpringCloth c(s, one_linear_solve(solver));
     Matrix3X v = Matrix3X::Zero(3, c.model().particle_count());
     for (Eigen::Index p = 0; p < v.cols(); ++p)
       v.col(p) = Vector3(std::sin(p), std::cos(3.0 * p), 0.5);
@@ -78,8 +102,8 @@ TEST_CASE("the direct and CG solvers give the same Newton step", "[integrator]")
 }
 
 TEST_CASE("held axes stay exact under Newton with line search", "[integrator]") {
-  const LinearSolver solver =
-      GENERATE(LinearSolver::cg, LinearSolver::block_jacobi_cg, LinearSolver::ldlt);
+  const LinearSolver solver = GENERATE(LinearSolver::cg, LinearSolver::block_jacobi_cg,
+                                       LinearSolver::two_level_cg, LinearSolver::ldlt);
   CAPTURE(linear_solver_name(solver));
   // corners held in every axis, one edge's middle particle only in y
   Scene s = seed_scene(10);
@@ -98,21 +122,12 @@ TEST_CASE("held axes stay exact under Newton with line search", "[integrator]") 
 
 TEST_CASE("adaptive forcing reaches the tight solves' step with fewer CG iterations",
           "[integrator]") {
-  // a state of the 24 x 24 seed scene folding over the sphere (its 13th frame)
-  const Scene scene = seed_scene(24);
-  MassSpringCloth start(scene, line_search_options(LinearSolver::block_jacobi_cg));
-  for (int step = 0; step < 13; ++step) start.step(kFrame);
+  const MassSpringCloth start = folding_cloth();
   constexpr double kResidual = 1e-5;  // m/s, |M^-1 residual| on every free axis
   auto one_step = [&](CgForcing forcing) {
     SolverOptions o = line_search_options(LinearSolver::block_jacobi_cg);
     o.cg_forcing = forcing;
-    o.cg_tolerance = 1e-10;
-    o.newton_tolerance = kResidual / kFrame;  // m/s^2
-    o.newton_iterations = 2000;
-    MassSpringCloth c(scene, o);
-    c.set_state(start.positions(), start.velocities());
-    c.step(kFrame);
-    return c;
+    return converged_step(start, o, kResidual);
   };
   const MassSpringCloth tight = one_step(CgForcing::fixed);
   const MassSpringCloth adaptive = one_step(CgForcing::adaptive);
@@ -151,4 +166,46 @@ TEST_CASE("the preconditioner's diagonal blocks equal the assembled matrix's", "
     CHECK((blocks.diagonal_blocks().middleCols<3>(3 * p) - expected).cwiseAbs().maxCoeff() <=
           1e-12 * expected.cwiseAbs().maxCoeff());
   }
+}
+
+TEST_CASE(
+    "the exact matrix after the clamped iterations reaches the same step in fewer Newton "
+    "iterations",
+    "[integrator]") {
+  // the 24 x 24 seed scene folding over the sphere, where many springs are compressed and the
+  // clamped matrix's Newton converges only linearly
+  const MassSpringCloth start = folding_cloth();
+  constexpr double kResidual = 1e-6;  // m/s, |M^-1 residual| on every free axis
+  auto one_step = [&](int clamped_iterations) {
+    SolverOptions o = line_search_options(LinearSolver::block_jacobi_cg);
+    o.cg_forcing = CgForcing::fixed;
+    o.clamped_iterations = clamped_iterations;
+    return converged_step(start, o, kResidual);
+  };
+  const MassSpringCloth clamped = one_step(2000);
+  const MassSpringCloth exact = one_step(2);
+  const Counters c = clamped.counters(), e = exact.counters();
+  CAPTURE(c.newton_iterations, e.newton_iterations, c.cg_iterations, e.cg_iterations);
+  REQUIRE(clamped.newton()->last_residual() <= kResidual);
+  REQUIRE(exact.newton()->last_residual() <= kResidual);
+  // the clamp changes the matrix, not the equations: the same solution
+  const double dv = (clamped.velocities() - exact.velocities()).cwiseAbs().maxCoeff();
+  CAPTURE(dv);
+  CHECK(dv <= 10.0 * kResidual);
+  CHECK(2 * e.newton_iterations < c.newton_iterations);
+}
+
+TEST_CASE("two-level CG on a rod one particle wide gives the direct solver's step",
+          "[integrator]") {
+  // a hanging chain of 30 particles: the coarse grid has a single node across it
+  const Scene s = clothbench::test::chain(30, 0.1, 2000.0, 0.05, 0.5, 9.81);
+  auto one_step = [&](LinearSolver solver) {
+    MassSpringCloth c(s, one_linear_solve(solver));
+    c.step(kFrame);
+    return Matrix3X(c.velocities());
+  };
+  const Matrix3X direct = one_step(LinearSolver::ldlt);
+  const Matrix3X two_level = one_step(LinearSolver::two_level_cg);
+  REQUIRE(direct.norm() > 0.0);
+  CHECK((direct - two_level).norm() <= 1e-9 * direct.norm());
 }

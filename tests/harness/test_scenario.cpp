@@ -123,6 +123,8 @@ void check_same_scenario(const Scenario& a, const Scenario& b) {
     CHECK(e.solver.cg_forcing == f.solver.cg_forcing);
     CHECK(e.solver.contacts_in_solve == f.solver.contacts_in_solve);
     CHECK(e.solver.clamp_compressed == f.solver.clamp_compressed);
+    CHECK(e.solver.clamped_iterations == f.solver.clamped_iterations);
+    CHECK(e.solver.linear_solver == f.solver.linear_solver);
     CHECK(e.bullet.implicit == f.bullet.implicit);
     CHECK(e.bullet.line_search == f.bullet.line_search);
     CHECK(e.bullet.projection == f.bullet.projection);
