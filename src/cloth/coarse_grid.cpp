@@ -99,12 +99,15 @@ void CoarseGrid::build_pattern() {
   // every pair of nodes within the stencil, 3 by 3 each; unknowns 3 c + r
   std::vector<Eigen::Triplet<double>> t;
   for (int a = 0; a < nodes(); ++a)
-    for (int b = 0; b < nodes(); ++b) {
-      if (std::abs(a % m_cu - b % m_cu) > m_ru || std::abs(a / m_cu - b / m_cu) > m_rv) continue;
-      for (int c = 0; c < 3; ++c)
-        for (int r = 0; r < 3; ++r)
-          t.emplace_back(3 * a + r, 3 * b + c, 9.0 * slot(a, b) + 3 * c + r);
-    }
+    for (int bv = std::max(0, a / m_cu - m_rv); bv <= std::min(m_cv - 1, a / m_cu + m_rv); ++bv)
+      for (int bu = std::max(0, a % m_cu - m_ru); bu <= std::min(m_cu - 1, a % m_cu + m_ru); ++bu) {
+        const int b = bv * m_cu + bu;
+        // only blocks (a, b) with a <= b are accumulated; the others are their transposes
+        for (int c = 0; c < 3; ++c)
+          for (int r = 0; r < 3; ++r)
+            t.emplace_back(3 * a + r, 3 * b + c,
+                           a <= b ? 9.0 * slot(a, b) + 3 * c + r : 9.0 * slot(b, a) + 3 * r + c);
+      }
   m_ac.resize(3 * nodes(), 3 * nodes());
   m_ac.setFromTriplets(t.begin(), t.end());
   m_ac.makeCompressed();
@@ -151,7 +154,8 @@ void CoarseGrid::add_diagonal(const Model& m, double h) {
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) {
         const double w = par.weight[i] * par.weight[j];
-        if (w != 0.0) m_blocks[slot(par.node[i], par.node[j])] += w * d;
+        if (w != 0.0 && par.node[i] <= par.node[j])
+          m_blocks[slot(par.node[i], par.node[j])] += w * d;
       }
   }
 }
@@ -166,10 +170,14 @@ void CoarseGrid::add_springs(const Model& m, const SpringLinearization& lin_k,
     Difference diff;
     for (int i = 0; i < 4; ++i) diff.add(m_parents[p].node[i], m_parents[p].weight[i]);
     for (int i = 0; i < 4; ++i) diff.add(m_parents[q].node[i], -m_parents[q].weight[i]);
+    // the upper blocks only (a node appears once in diff, and b is symmetric)
+    auto upper = [&](int i, int j) {
+      return slot(std::min(diff.node[i], diff.node[j]), std::max(diff.node[i], diff.node[j]));
+    };
     if (!filtered[p] && !filtered[q]) {
       for (int i = 0; i < diff.count; ++i)
-        for (int j = 0; j < diff.count; ++j)
-          m_blocks[slot(diff.node[i], diff.node[j])] += (diff.coef[i] * diff.coef[j]) * b;
+        for (int j = i; j < diff.count; ++j)
+          m_blocks[upper(i, j)] += (diff.coef[i] * diff.coef[j]) * b;
       return;
     }
     // a filtered end: G's block at coarse node c is w_pc S_p - w_qc S_q
@@ -182,8 +190,10 @@ void CoarseGrid::add_springs(const Model& m, const SpringLinearization& lin_k,
       }
     }
     for (int i = 0; i < diff.count; ++i)
-      for (int j = 0; j < diff.count; ++j)
-        m_blocks[slot(diff.node[i], diff.node[j])] += g[i].transpose() * b * g[j];
+      for (int j = i; j < diff.count; ++j) {
+        const Matrix3 block = g[i].transpose() * b * g[j];
+        m_blocks[upper(i, j)] += diff.node[i] < diff.node[j] ? block : Matrix3(block.transpose());
+      }
   });
 }
 

@@ -74,8 +74,9 @@ class CoarseGrid {
   AxisWeights m_u, m_v;
   std::vector<double> m_half;  // add_correction's scratch, 3 by nv by cu
   std::vector<Parents> m_parents;
-  std::vector<Matrix3> m_blocks;    // per coarse node, its (2 ru + 1)(2 rv + 1) stencil blocks
-  std::vector<int> m_value_source;  // per nonzero of m_ac: 9 * slot + 3 * col + row
+  std::vector<Matrix3> m_blocks;    // per coarse node a, its stencil's blocks (a, b): only those
+                                    // with a <= b are filled, the others are their transposes
+  std::vector<int> m_value_source;  // per nonzero of m_ac: 9 * slot + 3 * col + row in m_blocks
   Eigen::SparseMatrix<double> m_ac;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_ldlt;
   Eigen::VectorXd m_rc, m_xc;     // coarse right-hand side and solution, 3 #C interleaved

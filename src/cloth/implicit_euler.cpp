@@ -115,20 +115,19 @@ void ImplicitEulerNewton::newton_direction(const Model& m, const SolverOptions& 
                                            double eta, Counters& counters) {
   // newton system A dv = -grad Phi at the iterate, filtered at held axes and contacts
   m_x = m_x0 + h * m_v;
-  linearize_springs(m.springs, m_x, o.clamp_compressed, m_lin);
+  // after the first clamped_iterations, the direction comes from the exact matrix, preconditioned
+  // by the clamped one, and CG stops where the exact matrix curves down (truncated Newton)
+  const int iteration = static_cast<int>(m_history.size()) - 1;
+  const bool exact = !m_direct && o.clamp_compressed && iteration >= o.clamped_iterations;
+  linearize_springs(m.springs, m_x, o.clamp_compressed, m_lin, exact ? &m_lin_exact : nullptr);
   // the conjugate gradients apply A matrix-free and need only its diagonal blocks
   if (m_direct)
     m_matrix.assemble(m, m_lin, m_lin0, h);
   else
     m_matrix.assemble_diagonal_blocks(m, m_lin, m_lin0, h);
   m_matrix.apply_contacts(m, m_contacts, m_direct);
-  // after the first clamped_iterations, the direction comes from the exact matrix, preconditioned
-  // by the clamped one, and CG stops where the exact matrix curves down (truncated Newton)
-  const int iteration = static_cast<int>(m_history.size()) - 1;
-  const bool exact = !m_direct && o.clamp_compressed && iteration >= o.clamped_iterations;
   CgResult cg;
   if (exact) {
-    linearize_springs(m.springs, m_x, false, m_lin_exact);
     cg = m_solver.solve(m, m_matrix, m_lin_exact, m_lin, m_lin0, h, m_rhs, m_dv, eta,
                         o.cg_max_iterations, m_contacts, true);
   }

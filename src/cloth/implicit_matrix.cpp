@@ -97,15 +97,19 @@ void ImplicitMatrix::copy_diagonal_blocks() {
 void ImplicitMatrix::assemble_diagonal_blocks(const Model& m, const SpringLinearization& lin_k,
                                               const SpringLinearization& lin_d, double h) {
   const int n = m.particle_count();
-  m_blocks.setZero(3, 3 * Eigen::Index(n));
-  for (int p = 0; p < n; ++p)
-    m_blocks.middleCols<3>(3 * p).diagonal().setConstant(m.mass[p] + h * m.air_drag);
-  // each spring's block B = h^2 J + h c d0 d0^T on both ends' diagonal blocks
-  for_each_spring(m.springs, [&](int p, int q, size_t fi) {
-    const Matrix3 block = spring_block(m, lin_k, lin_d, fi, p, h);
-    m_blocks.middleCols<3>(3 * p) += block;
-    m_blocks.middleCols<3>(3 * q) += block;
-  });
+  // the six entries xx, yy, zz, xy, xz, yz of each particle's symmetric block, one row each
+  m_sym.setZero(6, n);
+  for (size_t fi = 0; fi < m.springs.families.size(); ++fi)
+    add_family_diagonal(m, lin_k.dirs[fi], lin_d.dirs[fi], fi, h);
+  m_blocks.resize(3, 3 * Eigen::Index(n));
+  const double diagonal_extra = h * m.air_drag;
+  for (int p = 0; p < n; ++p) {
+    auto block = m_blocks.middleCols<3>(3 * Eigen::Index(p));
+    const double md = m.mass[p] + diagonal_extra;
+    block << m_sym(0, p) + md, m_sym(3, p), m_sym(4, p),  //
+        m_sym(3, p), m_sym(1, p) + md, m_sym(5, p),       //
+        m_sym(4, p), m_sym(5, p), m_sym(2, p) + md;
+  }
   // held axes: identity row and column, as in assemble()
   for (int p = 0; p < n; ++p)
     for (int r = 0; r < 3; ++r)
@@ -114,6 +118,34 @@ void ImplicitMatrix::assemble_diagonal_blocks(const Model& m, const SpringLinear
         m_blocks.col(3 * p + r).setZero();
         m_blocks(r, 3 * p + r) = 1.0;
       }
+}
+
+void ImplicitMatrix::add_family_diagonal(const Model& m, const LinearizedFamily& lk,
+                                         const LinearizedFamily& ld, size_t fi, double h) {
+  // each spring's block B = h^2 k ((1 - b) d d^T + b I) + h c d0 d0^T (spring_block), computed
+  // for every slot (an empty slot has d = d0 = 0 and b = 0, so B = 0), then added to both ends
+  const SpringFamily& fam = m.springs.families[fi];
+  const int o = fam.offset, slots = fam.slots();
+  const double hk = h * h * fam.stiffness, hc = h * m.springs.damping;
+  m_family_sym.resize(6, slots);
+  const double *dx = lk.row(0).data(), *dy = lk.row(1).data(), *dz = lk.row(2).data();
+  const double* b = lk.row(3).data();
+  const double *ex = ld.row(0).data(), *ey = ld.row(1).data(), *ez = ld.row(2).data();
+  double* __restrict out[6];
+  for (int e = 0; e < 6; ++e) out[e] = m_family_sym.row(e).data();
+  for (int p = 0; p < slots; ++p) {
+    const double t = hk * (1.0 - b[p]), s = hk * b[p];
+    out[0][p] = t * dx[p] * dx[p] + s + hc * ex[p] * ex[p];
+    out[1][p] = t * dy[p] * dy[p] + s + hc * ey[p] * ey[p];
+    out[2][p] = t * dz[p] * dz[p] + s + hc * ez[p] * ez[p];
+    out[3][p] = t * dx[p] * dy[p] + hc * ex[p] * ey[p];
+    out[4][p] = t * dx[p] * dz[p] + hc * ex[p] * ez[p];
+    out[5][p] = t * dy[p] * dz[p] + hc * ey[p] * ez[p];
+  }
+  for (int e = 0; e < 6; ++e) {
+    m_sym.row(e).head(slots) += m_family_sym.row(e);
+    m_sym.row(e).segment(o, slots) += m_family_sym.row(e);
+  }
 }
 
 void ImplicitMatrix::apply_contacts(const Model& m, const std::vector<ContactConstraint>& contacts,

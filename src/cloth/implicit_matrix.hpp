@@ -57,11 +57,19 @@ class ImplicitMatrix {
   void diagonal_block_inverses(Eigen::Matrix<double, 3, Eigen::Dynamic>& inv) const;
 
  private:
+  using LinearizedFamily = Eigen::Matrix<double, 4, Eigen::Dynamic, Eigen::RowMajor>;
+  using SymmetricRows = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>;
+
   /// Copies A's diagonal blocks out of m_a into m_blocks.
   void copy_diagonal_blocks();
+  /// Adds family fi's spring blocks to m_sym at both ends of each spring.
+  void add_family_diagonal(const Model& m, const LinearizedFamily& lk, const LinearizedFamily& ld,
+                           size_t fi, double h);
 
   Eigen::SparseMatrix<double> m_a;
   Eigen::Matrix<double, 3, Eigen::Dynamic> m_blocks;
+  SymmetricRows m_sym;              // assemble_diagonal_blocks: per particle xx, yy, zz, xy, xz, yz
+  SymmetricRows m_family_sym;       // the same per spring of one family
   std::vector<Matrix3> m_filter;    // apply_contacts(whole): per particle I - n n^T, or I
   std::vector<char> m_touching;     // apply_contacts(whole): per particle, 1 if in contact
   std::vector<int> m_spring_slots;  // per spring 4 blocks (pp, qq, pq, qp) by 3 columns

@@ -4,34 +4,55 @@
 
 namespace cloth {
 
-void linearize_springs(const SpringSet& springs, const Matrix3X& x, bool clamp_compressed,
-                       SpringLinearization& lin) {
-  lin.dirs.resize(springs.families.size());
+namespace {
+
+/// One family's linearisation into lin (b clamped or not) and, if out_b is given, the unclamped
+/// b into out_b.
+void linearize_family(const SpringFamily& fam, const Matrix3X& x, bool clamp_compressed,
+                      Eigen::Matrix<double, 4, Eigen::Dynamic, Eigen::RowMajor>& lin,
+                      double* __restrict out_b) {
+  const int o = fam.offset, m = fam.slots();
   const double* __restrict X = x.row(0).data();
   const double* __restrict Y = x.row(1).data();
   const double* __restrict Z = x.row(2).data();
+  lin.resize(4, m);
+  double* __restrict nx = lin.row(0).data();
+  double* __restrict ny = lin.row(1).data();
+  double* __restrict nz = lin.row(2).data();
+  double* __restrict nb = lin.row(3).data();
+  const double* __restrict mask = fam.mask.data();
+  const double* __restrict rest = fam.rest.data();
+  for (int p = 0; p < m; ++p) {
+    const double dx = X[p + o] - X[p], dy = Y[p + o] - Y[p], dz = Z[p + o] - Z[p];
+    const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+    const double il = 1.0 / (len + 1e-300);
+    // the mask zeroes the direction, so a slot without a spring adds nothing
+    nx[p] = mask[p] * dx * il;
+    ny[p] = mask[p] * dy * il;
+    nz[p] = mask[p] * dz * il;
+    const double b = 1.0 - rest[p] * il;
+    nb[p] = mask[p] * (clamp_compressed ? std::max(b, 0.0) : b);
+    if (out_b) out_b[p] = mask[p] * b;
+  }
+}
+
+}  // namespace
+
+void linearize_springs(const SpringSet& springs, const Matrix3X& x, bool clamp_compressed,
+                       SpringLinearization& lin, SpringLinearization* unclamped) {
+  lin.dirs.resize(springs.families.size());
+  if (unclamped) unclamped->dirs.resize(springs.families.size());
   for (size_t fi = 0; fi < springs.families.size(); ++fi) {
     const SpringFamily& fam = springs.families[fi];
-    const int o = fam.offset, m = fam.slots();
-    auto& L = lin.dirs[fi];
-    L.resize(4, m);
-    double* __restrict nx = L.row(0).data();
-    double* __restrict ny = L.row(1).data();
-    double* __restrict nz = L.row(2).data();
-    double* __restrict nb = L.row(3).data();
-    const double* __restrict mask = fam.mask.data();
-    const double* __restrict rest = fam.rest.data();
-    for (int p = 0; p < m; ++p) {
-      const double dx = X[p + o] - X[p], dy = Y[p + o] - Y[p], dz = Z[p + o] - Z[p];
-      const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
-      const double il = 1.0 / (len + 1e-300);
-      // the mask zeroes the direction, so a slot without a spring adds nothing
-      nx[p] = mask[p] * dx * il;
-      ny[p] = mask[p] * dy * il;
-      nz[p] = mask[p] * dz * il;
-      const double b = 1.0 - rest[p] * il;
-      nb[p] = mask[p] * (clamp_compressed ? std::max(b, 0.0) : b);
+    if (!unclamped) {
+      linearize_family(fam, x, clamp_compressed, lin.dirs[fi], nullptr);
+      continue;
     }
+    // the same directions, b as it is: one pass over the springs for both
+    auto& u = unclamped->dirs[fi];
+    u.resize(4, fam.slots());
+    linearize_family(fam, x, clamp_compressed, lin.dirs[fi], u.row(3).data());
+    u.topRows<3>() = lin.dirs[fi].topRows<3>();
   }
 }
 

@@ -24,8 +24,9 @@ struct SpringLinearization {
 
 /// Linearises every spring at positions x (3 by #P).
 /// @param clamp_compressed  replace b by max(b, 0)
+/// @param unclamped         if given, also the linearisation with b as it is (written)
 void linearize_springs(const SpringSet& springs, const Matrix3X& x, bool clamp_compressed,
-                       SpringLinearization& lin);
+                       SpringLinearization& lin, SpringLinearization* unclamped = nullptr);
 
 /// y += alpha K u + beta D u, with K = df/dx and D = df/dv of the springs.
 /// @param u    3 by #P
