@@ -26,6 +26,10 @@ CoarseGrid::AxisWeights axis_weights(int n, int c) {
     w.left[i] = k;
     w.weight[i] = 1.0 - (t - k);
   }
+  // left parents do not decrease along the axis: each node's run of fine nodes
+  w.first.assign(static_cast<size_t>(c) + 1, n);
+  for (int i = n - 1; i >= 0; --i) w.first[w.left[i]] = i;
+  for (int k = c - 1; k >= 0; --k) w.first[k] = std::min(w.first[k], w.first[k + 1]);
   return w;
 }
 
@@ -198,28 +202,31 @@ void CoarseGrid::add_springs(const Model& m, const SpringLinearization& lin_k,
 }
 
 void CoarseGrid::add_correction(const Matrix3X& r, Matrix3X& z) {
-  // P is bilinear, so P^T and P go one grid axis at a time, through m_half (cu by nv per axis)
+  restrict_to_coarse(r);
+  m_xc = m_ldlt.solve(m_rc);
+  add_prolonged(z);
+}
+
+void CoarseGrid::restrict_to_coarse(const Matrix3X& r) {
+  // P is bilinear, so P^T goes one grid axis at a time, through m_half (cu by nv per axis); the
+  // particles whose left parent along u is k are the contiguous run first[k] .. first[k + 1]
   const int nu = static_cast<int>(m_u.left.size()), nv = static_cast<int>(m_v.left.size());
   m_half.assign(static_cast<size_t>(3) * nv * m_cu, 0.0);
   for (int axis = 0; axis < 3; ++axis)
     for (int j = 0; j < nv; ++j) {
-      const double* rj = r.row(axis).data() + Eigen::Index(j) * nu;
+      const double* __restrict rj = r.row(axis).data() + Eigen::Index(j) * nu;
       double* hj = &m_half[(static_cast<size_t>(axis) * nv + j) * m_cu];
-      // left parents do not decrease along i: sum each interval's particles in registers
-      int k = m_u.left[0];
-      double to_left = 0.0, to_right = 0.0;
-      for (int i = 0; i < nu; ++i) {
-        if (m_u.left[i] != k) {
-          hj[k] += to_left;
-          if (m_cu > 1) hj[k + 1] += to_right;
-          k = m_u.left[i];
-          to_left = to_right = 0.0;
+      const double* __restrict w = m_u.weight.data();
+      for (int k = 0; k < m_cu; ++k) {
+        double to_left = 0.0, to_right = 0.0;
+#pragma omp simd reduction(+ : to_left, to_right)
+        for (int i = m_u.first[k]; i < m_u.first[k + 1]; ++i) {
+          to_left += w[i] * rj[i];
+          to_right += (1.0 - w[i]) * rj[i];
         }
-        to_left += m_u.weight[i] * rj[i];
-        to_right += (1.0 - m_u.weight[i]) * rj[i];
+        hj[k] += to_left;
+        if (k + 1 < m_cu) hj[k + 1] += to_right;
       }
-      hj[k] += to_left;
-      if (m_cu > 1) hj[k + 1] += to_right;
     }
   m_rc.setZero();
   for (int axis = 0; axis < 3; ++axis)
@@ -232,7 +239,11 @@ void CoarseGrid::add_correction(const Matrix3X& r, Matrix3X& z) {
         if (m_cv > 1) m_rc[3 * ((l + 1) * m_cu + k) + axis] += (1.0 - w) * hj[k];
       }
     }
-  m_xc = m_ldlt.solve(m_rc);
+}
+
+void CoarseGrid::add_prolonged(Matrix3X& z) {
+  // z += P x_c: along v into m_half, then along u onto each particle run
+  const int nu = static_cast<int>(m_u.left.size()), nv = static_cast<int>(m_v.left.size());
   for (int axis = 0; axis < 3; ++axis)
     for (int j = 0; j < nv; ++j) {
       double* hj = &m_half[(static_cast<size_t>(axis) * nv + j) * m_cu];
@@ -240,10 +251,12 @@ void CoarseGrid::add_correction(const Matrix3X& r, Matrix3X& z) {
       const double w = m_v.weight[j];
       for (int k = 0; k < m_cu; ++k)
         hj[k] = w * m_xc[3 * (l * m_cu + k) + axis] + (1.0 - w) * m_xc[3 * (l1 * m_cu + k) + axis];
-      double* zj = z.row(axis).data() + Eigen::Index(j) * nu;
-      for (int i = 0; i < nu; ++i) {
-        const int k = m_u.left[i], k1 = std::min(k + 1, m_cu - 1);
-        zj[i] += m_u.weight[i] * hj[k] + (1.0 - m_u.weight[i]) * hj[k1];
+      double* __restrict zj = z.row(axis).data() + Eigen::Index(j) * nu;
+      const double* __restrict wu = m_u.weight.data();
+      for (int k = 0; k < m_cu; ++k) {
+        const double left = hj[k], right = hj[std::min(k + 1, m_cu - 1)];
+        for (int i = m_u.first[k]; i < m_u.first[k + 1]; ++i)
+          zj[i] += wu[i] * left + (1.0 - wu[i]) * right;
       }
     }
 }

@@ -32,6 +32,7 @@ class CoarseGrid {
   struct AxisWeights {
     std::vector<int> left;
     std::vector<double> weight;
+    std::vector<int> first;  // c + 1 entries: fine nodes first[k] .. first[k + 1] have left k
   };
 
   /// @param coarsening  fine particles per coarse interval, at most, along each grid axis (>= 2)
@@ -68,6 +69,10 @@ class CoarseGrid {
   void add_springs(const Model& m, const SpringLinearization& lin_k,
                    const SpringLinearization& lin_d, double h);
   void build_pattern();
+  /// m_rc = P^T r.
+  void restrict_to_coarse(const Matrix3X& r);
+  /// z += P m_xc.
+  void add_prolonged(Matrix3X& z);
 
   int m_cu = 1, m_cv = 1;  // coarse nodes along u and v
   int m_ru = 0, m_rv = 0;  // stencil half-widths along u and v, in coarse nodes
