@@ -87,8 +87,13 @@ CoarseGrid::CoarseGrid(const Model& m, int coarsening)
   m_ru = std::max(m_ru, m_cu > 1 ? 1 : 0);
   m_rv = std::max(m_rv, m_cv > 1 ? 1 : 0);
   m_blocks.assign(static_cast<size_t>(nodes()) * (2 * m_ru + 1) * (2 * m_rv + 1), Matrix3::Zero());
-  m_filter.assign(m_parents.size(), Matrix3::Identity());
-  m_filtered.assign(m_parents.size(), 0);
+  // S per particle: the held-axis mask, fixed per scene; build() sets contacts' and resets them
+  m_filter.resize(m_parents.size());
+  m_filtered.resize(m_parents.size());
+  for (int p = 0; p < m.particle_count(); ++p) {
+    m_filter[p] = m.free.col(p).asDiagonal();
+    m_filtered[p] = m.free.col(p).minCoeff() == 0.0;
+  }
   m_rc.setZero(3 * nodes());
   m_xc.setZero(3 * nodes());
   build_pattern();
@@ -125,11 +130,7 @@ void CoarseGrid::build_pattern() {
 void CoarseGrid::build(const Model& m, const SpringLinearization& lin_k,
                        const SpringLinearization& lin_d, double h,
                        const std::vector<ContactConstraint>& contacts) {
-  // S per particle: the held-axis mask, or I - n n^T at a contact (contacts are all-free)
-  for (int p = 0; p < m.particle_count(); ++p) {
-    m_filter[p] = m.free.col(p).asDiagonal();
-    m_filtered[p] = m.free.col(p).minCoeff() == 0.0;
-  }
+  // S is I - n n^T at a contact (contacts are on all-free particles, whose S is otherwise I)
   for (const ContactConstraint& c : contacts) {
     m_filter[c.particle] = Matrix3::Identity() - c.normal * c.normal.transpose();
     m_filtered[c.particle] = 1;
@@ -144,17 +145,19 @@ void CoarseGrid::build(const Model& m, const SpringLinearization& lin_k,
   }
   m_ldlt.factorize(m_ac);
   m_ok = m_ldlt.info() == Eigen::Success;
+  for (const ContactConstraint& c : contacts) {
+    m_filter[c.particle].setIdentity();
+    m_filtered[c.particle] = 0;
+  }
 }
 
 void CoarseGrid::add_diagonal(const Model& m, double h) {
-  const std::vector<Matrix3>& filter = m_filter;
-  const std::vector<char>& filtered = m_filtered;
   // P^T (S (M + h drag) S + I - S) P: the identity where S takes an axis or a normal out
   for (int p = 0; p < m.particle_count(); ++p) {
     const Parents& par = m_parents[p];
     const double mp = m.mass[p] + h * m.air_drag;
-    const Matrix3 d = filtered[p] ? Matrix3(mp * filter[p] + Matrix3::Identity() - filter[p])
-                                  : Matrix3(mp * Matrix3::Identity());
+    const Matrix3 d = m_filtered[p] ? Matrix3(mp * m_filter[p] + Matrix3::Identity() - m_filter[p])
+                                    : Matrix3(mp * Matrix3::Identity());
     for (int i = 0; i < 4; ++i)
       for (int j = 0; j < 4; ++j) {
         const double w = par.weight[i] * par.weight[j];
@@ -166,8 +169,6 @@ void CoarseGrid::add_diagonal(const Model& m, double h) {
 
 void CoarseGrid::add_springs(const Model& m, const SpringLinearization& lin_k,
                              const SpringLinearization& lin_d, double h) {
-  const std::vector<Matrix3>& filter = m_filter;
-  const std::vector<char>& filtered = m_filtered;
   // a spring adds G^T B G with G = S_p P_p - S_q P_q (its rows of A are +-B between p and q)
   for_each_spring(m.springs, [&](int p, int q, size_t fi) {
     const Matrix3 b = spring_block(m, lin_k, lin_d, fi, p, h);
@@ -178,7 +179,7 @@ void CoarseGrid::add_springs(const Model& m, const SpringLinearization& lin_k,
     auto upper = [&](int i, int j) {
       return slot(std::min(diff.node[i], diff.node[j]), std::max(diff.node[i], diff.node[j]));
     };
-    if (!filtered[p] && !filtered[q]) {
+    if (!m_filtered[p] && !m_filtered[q]) {
       for (int i = 0; i < diff.count; ++i)
         for (int j = i; j < diff.count; ++j)
           m_blocks[upper(i, j)] += (diff.coef[i] * diff.coef[j]) * b;
@@ -189,8 +190,8 @@ void CoarseGrid::add_springs(const Model& m, const SpringLinearization& lin_k,
     for (int i = 0; i < diff.count; ++i) {
       g[i].setZero();
       for (int k = 0; k < 4; ++k) {
-        if (m_parents[p].node[k] == diff.node[i]) g[i] += m_parents[p].weight[k] * filter[p];
-        if (m_parents[q].node[k] == diff.node[i]) g[i] -= m_parents[q].weight[k] * filter[q];
+        if (m_parents[p].node[k] == diff.node[i]) g[i] += m_parents[p].weight[k] * m_filter[p];
+        if (m_parents[q].node[k] == diff.node[i]) g[i] -= m_parents[q].weight[k] * m_filter[q];
       }
     }
     for (int i = 0; i < diff.count; ++i)

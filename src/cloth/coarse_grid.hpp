@@ -85,7 +85,8 @@ class CoarseGrid {
   Eigen::SparseMatrix<double> m_ac;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_ldlt;
   Eigen::VectorXd m_rc, m_xc;     // coarse right-hand side and solution, 3 #C interleaved
-  std::vector<Matrix3> m_filter;  // per particle: S, the held-axis mask or I - n n^T
+  std::vector<Matrix3> m_filter;  // per particle: S, the held-axis mask, or I - n n^T during
+                                  // build() at a contact
   std::vector<char> m_filtered;   // per particle: S != I
   bool m_ok = true;
 };

@@ -24,10 +24,13 @@ LinearSolver resolved_linear_solver(LinearSolver s, int particles) {
 }
 
 ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o)
-    : m_matrix(m,
-               resolved_linear_solver(o.linear_solver, m.particle_count()) == LinearSolver::ldlt),
-      m_solver(m, resolved_linear_solver(o.linear_solver, m.particle_count())),
-      m_direct(resolved_linear_solver(o.linear_solver, m.particle_count()) == LinearSolver::ldlt) {
+    : ImplicitEulerNewton(m, o, resolved_linear_solver(o.linear_solver, m.particle_count())) {}
+
+ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o,
+                                         LinearSolver solver)
+    : m_matrix(m, solver == LinearSolver::ldlt),
+      m_solver(m, solver),
+      m_direct(solver == LinearSolver::ldlt) {
   const Eigen::Index n = m.particle_count();
   for (Matrix3X* a :
        {&m_x0, &m_v0, &m_v, &m_x, &m_trial, &m_dv, &m_force, &m_damp, &m_zero, &m_buf, &m_rhs})

@@ -61,6 +61,8 @@ class ImplicitEulerNewton {
   double last_residual() const { return m_residual; }
 
  private:
+  /// solver: o.linear_solver resolved (not automatic)
+  ImplicitEulerNewton(const Model& m, const SolverOptions& o, LinearSolver solver);
   /// Sets the step's start, contacts, first guess and frozen damper directions.
   void start_step(const Model& m, const SolverOptions& o, double t_end, double h, const Matrix3X& x,
                   const Matrix3X& v);

@@ -42,10 +42,10 @@ TEST_CASE("the coarse grid interpolates constants and linear fields exactly", "[
   const int coarsening = GENERATE(2, 3, 8, 40);
   CAPTURE(coarsening);
   const ShakenCloth c;
-  // a field a + b i + c j of the grid indices, set on the coarse nodes at their grid positions,
-  // comes back the same on every particle
   const CoarseGrid g(c.m, coarsening);
-  // intervals of at most `coarsening` particles along 19 and 11 particles
+  // a field a + b i + c j of the grid indices, set on the coarse nodes at their grid positions,
+  // comes back the same on every particle; intervals of at most `coarsening` particles along 19 and
+  // 11 particles
   const int cu = (18 + coarsening - 1) / coarsening + 1,
             cv = (10 + coarsening - 1) / coarsening + 1;
   REQUIRE(cu * cv == g.nodes());
