@@ -164,7 +164,10 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
   const double velocity_tolerance = o.newton_tolerance * h;
   for (int it = 0; it < o.newton_iterations && m_residual > velocity_tolerance; ++it) {
     ++counters.newton_iterations;
-    if (adaptive && it > 0) eta = next_forcing(eta, m_residual / residual_before, o.cg_tolerance);
+    if (adaptive && it > 0) {
+      eta = next_forcing(eta, m_residual / residual_before, o.cg_tolerance);
+      eta = forcing_for_tolerance(eta, m_residual, velocity_tolerance);
+    }
     residual_before = m_residual;
     newton_direction(m, o, h, eta, counters);
     double slope = m_dv.cwiseProduct(m_rhs).sum();

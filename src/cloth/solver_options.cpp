@@ -67,6 +67,10 @@ double next_forcing(double previous_eta, double residual_ratio, double floor) {
   return std::max(floor, std::min(kForcingMax, eta));
 }
 
+double forcing_for_tolerance(double eta, double residual, double tolerance) {
+  return std::min(kForcingMax, std::max(eta, kOversolveFraction * tolerance / residual));
+}
+
 SolverOptions line_search_options(LinearSolver solver) {
   SolverOptions o;
   o.integrator = Integrator::implicit_euler;

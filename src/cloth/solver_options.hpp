@@ -83,6 +83,17 @@ constexpr int kCoarsening = 8;
 /// @param floor          the tightest forcing term allowed (cg_tolerance)
 double next_forcing(double previous_eta, double residual_ratio, double floor);
 
+/// Kelley's safeguard against oversolving (Iterative Methods for Linear and Nonlinear Equations,
+/// 1995, eq. 6.20): a forcing term need not take the Newton residual much below the tolerance,
+/// so none is tighter than kOversolveFraction tolerance / residual; at most kForcingMax.
+/// @param eta        the forcing term from next_forcing
+/// @param residual   the Newton residual the next system starts from
+/// @param tolerance  the Newton tolerance on that residual (same norm and units)
+double forcing_for_tolerance(double eta, double residual, double tolerance);
+
+/// The fraction of the Newton tolerance the last system aims for (Kelley's 0.5).
+constexpr double kOversolveFraction = 0.5;
+
 /// Implicit Euler with newton = line-search and that mode's defaults.
 SolverOptions line_search_options(LinearSolver solver = LinearSolver::automatic);
 

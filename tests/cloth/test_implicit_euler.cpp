@@ -141,6 +141,16 @@ TEST_CASE("adaptive forcing reaches the tight solves' step with fewer CG iterati
   CHECK(a.cg_iterations < t.cg_iterations);
 }
 
+TEST_CASE("no forcing term asks for more than the Newton tolerance needs", "[integrator]") {
+  // Kelley's safeguard with tolerance 0.3 m/s^2: a system that starts at residual r need not be
+  // solved past kOversolveFraction 0.3 / r, and never looser than kForcingMax
+  constexpr double kTolerance = 0.3;
+  CHECK(forcing_for_tolerance(0.01, 100.0, kTolerance) == 0.01);
+  CHECK(forcing_for_tolerance(1e-3, 1.0, kTolerance) == Approx(kOversolveFraction * kTolerance));
+  CHECK(forcing_for_tolerance(1e-3, 0.2, kTolerance) == kForcingMax);
+  CHECK(forcing_for_tolerance(0.9, 100.0, kTolerance) == kForcingMax);
+}
+
 TEST_CASE("the preconditioner's diagonal blocks equal the assembled matrix's", "[integrator]") {
   // a shaken 8 x 8 seed cloth, so that every spring is stretched or compressed, with drag and
   // one axis of an edge particle held besides the corners
