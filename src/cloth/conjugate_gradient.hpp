@@ -27,6 +27,23 @@ struct CgWorkspace {
   }
 };
 
+/// x += alpha p and r -= alpha q in one pass over the vectors; returns |r|^2 after it.
+inline double step_and_residual(double alpha, CgWorkspace& ws, Matrix3X& x) {
+  double* __restrict xd = x.data();
+  double* __restrict rd = ws.r.data();
+  const double* __restrict pd = ws.p.data();
+  const double* __restrict qd = ws.q.data();
+  double rr = 0.0;
+  const Eigen::Index n = x.size();
+#pragma omp simd reduction(+ : rr)
+  for (Eigen::Index i = 0; i < n; ++i) {
+    xd[i] += alpha * pd[i];
+    rd[i] -= alpha * qd[i];
+    rr += rd[i] * rd[i];
+  }
+  return rr;
+}
+
 /// Solves S A S x = S b for symmetric positive definite A given as a product, with S an
 /// orthogonal projection applied in place.
 /// @param apply         apply(u, out): out = A u, both 3 by #P
@@ -60,11 +77,8 @@ CgResult projected_pcg(Apply&& apply, Precondition&& precondition, Project&& pro
       res.negative_curvature = true;
       break;
     }
-    const double alpha = rz / pq;
-    x += alpha * ws.p;
-    ws.r -= alpha * ws.q;
     res.iterations = it + 1;
-    res.relative_residual = std::sqrt(dot(ws.r, ws.r)) / b_norm;
+    res.relative_residual = std::sqrt(step_and_residual(rz / pq, ws, x)) / b_norm;
     if (res.relative_residual <= tolerance) break;
     precondition(ws.r, ws.z);
     project(ws.z);

@@ -194,11 +194,13 @@ void ImplicitMatrix::apply_contacts(const Model& m, const std::vector<ContactCon
   }
 }
 
-void ImplicitMatrix::diagonal_block_inverses(Eigen::Matrix<double, 3, Eigen::Dynamic>& inv) const {
+void ImplicitMatrix::diagonal_block_inverses(SymmetricRows& inv) const {
   const Eigen::Index n = m_blocks.cols() / 3;
-  inv.resize(3, 3 * n);
-  for (Eigen::Index p = 0; p < n; ++p)
-    inv.middleCols<3>(3 * p) = m_blocks.middleCols<3>(3 * p).inverse();
+  inv.resize(6, n);
+  for (Eigen::Index p = 0; p < n; ++p) {
+    const Matrix3 b = m_blocks.middleCols<3>(3 * p).inverse();
+    inv.col(p) << b(0, 0), b(1, 1), b(2, 2), b(0, 1), b(0, 2), b(1, 2);
+  }
 }
 
 }  // namespace cloth

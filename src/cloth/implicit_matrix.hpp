@@ -52,13 +52,15 @@ class ImplicitMatrix {
   /// A's diagonal blocks, block p in columns 3 p .. 3 p + 2; filled by either assembly.
   const Eigen::Matrix<double, 3, Eigen::Dynamic>& diagonal_blocks() const { return m_blocks; }
 
-  /// Inverses of the 3 by 3 diagonal blocks.
-  /// @param inv  3 by 3 #P, block p in columns 3 p .. 3 p + 2, written
-  void diagonal_block_inverses(Eigen::Matrix<double, 3, Eigen::Dynamic>& inv) const;
+  /// Symmetric 3 by 3 blocks as six rows over the particles: xx, yy, zz, xy, xz, yz.
+  using SymmetricRows = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>;
+
+  /// Inverses of the 3 by 3 diagonal blocks (symmetric, like the blocks).
+  /// @param inv  6 by #P, written
+  void diagonal_block_inverses(SymmetricRows& inv) const;
 
  private:
   using LinearizedFamily = Eigen::Matrix<double, 4, Eigen::Dynamic, Eigen::RowMajor>;
-  using SymmetricRows = Eigen::Matrix<double, 6, Eigen::Dynamic, Eigen::RowMajor>;
 
   /// Copies A's diagonal blocks out of m_a into m_blocks.
   void copy_diagonal_blocks();

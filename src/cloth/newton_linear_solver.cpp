@@ -61,9 +61,15 @@ CgResult NewtonLinearSolver::solve_cg(const Model& m, const ImplicitMatrix& a,
   if (m_solver == LinearSolver::block_jacobi_cg || m_solver == LinearSolver::two_level_cg) {
     // z_p = B_p^-1 r_p with B_p particle p's 3 by 3 diagonal block (identity rows when held)
     a.diagonal_block_inverses(m_block_inv);
+    // row by row over the particles, so that it vectorises
     auto blocks = [&](const Matrix3X& r, Matrix3X& z) {
-      for (Eigen::Index p = 0; p < r.cols(); ++p)
-        z.col(p).noalias() = m_block_inv.middleCols<3>(3 * p) * r.col(p);
+      const ImplicitMatrix::SymmetricRows& inv = m_block_inv;
+      z.row(0) = inv.row(0).cwiseProduct(r.row(0)) + inv.row(3).cwiseProduct(r.row(1)) +
+                 inv.row(4).cwiseProduct(r.row(2));
+      z.row(1) = inv.row(3).cwiseProduct(r.row(0)) + inv.row(1).cwiseProduct(r.row(1)) +
+                 inv.row(5).cwiseProduct(r.row(2));
+      z.row(2) = inv.row(4).cwiseProduct(r.row(0)) + inv.row(5).cwiseProduct(r.row(1)) +
+                 inv.row(2).cwiseProduct(r.row(2));
     };
     if (m_coarse && m_coarse_stale) {
       m_coarse->build(m, lin_a, lin_d, h, contacts);

@@ -56,7 +56,7 @@ class NewtonLinearSolver {
   bool m_coarse_stale = true;
   std::unique_ptr<CoarseGrid> m_coarse;  // two_level_cg
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> m_ldlt;
-  Eigen::Matrix<double, 3, Eigen::Dynamic> m_block_inv;  // 3 by 3 #P
+  ImplicitMatrix::SymmetricRows m_block_inv;  // 6 by #P: xx, yy, zz, xy, xz, yz
   Matrix3X m_inv_diag, m_buf;
   CgWorkspace m_cg;
   Eigen::VectorXd m_b, m_x;  // interleaved 3 #P, for ldlt
