@@ -57,9 +57,9 @@ struct SolverOptions {
   CgForcing cg_forcing = CgForcing::fixed;  // implicit-euler, line-search
   bool contacts_in_solve = false;           // implicit-euler, line-search: contact_constraints.hpp
   bool clamp_compressed = true;             // implicit-euler: drop negative transverse stiffness
-  int clamped_iterations =
-      2;                // implicit-euler, line-search, CG solvers: Newton iterations per
-                        // step on the clamped matrix before the exact one (implicit_euler.hpp)
+  // implicit-euler, line-search, CG solvers: Newton iterations per step on the clamped matrix
+  // before the exact one (implicit_euler.hpp)
+  int clamped_iterations = 2;
   int substeps = 1;     // xpbd: substeps per step
   int iterations = 10;  // xpbd: sweeps per substep; projective: local/global iterations
 };
