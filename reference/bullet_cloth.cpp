@@ -201,8 +201,12 @@ ColliderBodies::ColliderBodies(btDiscreteDynamicsWorld& world, const cloth::Scen
   for (const cloth::Sphere& s : scene.spheres)
     add(std::make_unique<btSphereShape>(s.radius), s, s.center, none);
   for (const cloth::HalfSpace& p : scene.shapes.planes) {
+    // Bullet has no infinite plane for soft bodies: a 200 m x 2 m x 200 m box whose top face
+    // lies in the plane, centred under the cloth (the plane's point may lie anywhere on it)
     const cloth::Vector3 n = p.normal.normalized();
-    add(std::make_unique<btBoxShape>(btVector3(100.0, 1.0, 100.0)), p, p.point - n, y_onto(n));
+    const cloth::Vector3 under_cloth =
+        scene.cloth.center - (scene.cloth.center - p.point).dot(n) * n;
+    add(std::make_unique<btBoxShape>(btVector3(100.0, 1.0, 100.0)), p, under_cloth - n, y_onto(n));
   }
   for (const cloth::Box& b : scene.shapes.boxes)
     add(std::make_unique<btBoxShape>(to_bt(b.half_extents)), b, b.center, none);

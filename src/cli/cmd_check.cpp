@@ -3,8 +3,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
 #include <iostream>
+#include <map>
 #include <memory>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -14,7 +17,9 @@
 #include "harness/gate_report.hpp"
 #include "harness/output_lock.hpp"
 #include "harness/regression_check.hpp"
+#include "harness/user_error.hpp"
 #include "option_checks.hpp"
+#include "output_paths.hpp"
 #include "scenario_input.hpp"
 
 namespace clothbench::cli {
@@ -27,24 +32,56 @@ struct CheckArgs {
   CheckOptions options;
 };
 
-/// The --junit and --json files, opened before any run so that an unwritable path fails at
-/// once (exit 2) instead of after the checks; they appear only when the checks are done.
+/// The --junit and --json files, checked and opened before any run so that a path that must
+/// not be written (an input, a folder, another command's folder, the other report's file) or
+/// cannot be written fails at once (exit 2) instead of after the checks; they appear only when
+/// the checks are done. "-" writes that report to standard output (and the gate table to
+/// standard error).
 struct ReportFiles {
   std::unique_ptr<AtomicFile> junit, json;
+  bool junit_stdout = false, json_stdout = false;
   explicit ReportFiles(const CheckArgs& a) {
-    if (!a.junit_path.empty()) junit = std::make_unique<AtomicFile>(a.junit_path);
-    if (!a.json_path.empty()) json = std::make_unique<AtomicFile>(a.json_path);
+    check_output_files({{"--junit", a.junit_path}, {"--json", a.json_path}},
+                       {a.paths, {a.options.baseline_dir}});
+    junit_stdout = a.junit_path == "-", json_stdout = a.json_path == "-";
+    if (!a.junit_path.empty() && !junit_stdout) junit = std::make_unique<AtomicFile>(a.junit_path);
+    if (!a.json_path.empty() && !json_stdout) json = std::make_unique<AtomicFile>(a.json_path);
   }
+  /// Where the gate table goes: standard error when a report takes standard output.
+  std::ostream& table_stream() const { return junit_stdout || json_stdout ? std::cerr : std::cout; }
   void write(const std::vector<Gate>& gates, const std::vector<ScenarioTiming>& timings) {
     if (junit) junit->write(junit_xml(gates, timings)), junit->commit();
     if (json) json->write(gates_json(gates)), json->commit();
+    if (junit_stdout) std::cout << junit_xml(gates, timings) << std::flush;
+    if (json_stdout) std::cout << gates_json(gates) << std::flush;
   }
 };
+
+/// Throws UserError when two of the scenarios are one file or share a name: the name labels
+/// every gate, so the table, the JUnit file and the JSON would count one scenario twice.
+void refuse_duplicate_scenarios(const CheckArgs& a) {
+  std::map<std::string, std::string> by_name;  // scenario name -> its file
+  std::set<std::filesystem::path> files;
+  for (const std::string& p : a.paths) {
+    std::error_code ec;
+    const std::filesystem::path file = std::filesystem::weakly_canonical(p, ec);
+    if (!ec && !files.insert(file).second)
+      throw UserError("check: the scenario " + p + " is given twice; give each file once");
+    const std::string name = load_or_seed(p, a.options.overrides, {}).name;
+    const auto [at, fresh] = by_name.emplace(name, p);
+    if (!fresh)
+      throw UserError("check: the scenarios " + at->second + " and " + p + " are both named \"" +
+                      name +
+                      "\" (the name labels their gates); give each its own name or check them "
+                      "one at a time");
+  }
+}
 
 int execute_check(CheckArgs a) {
   CheckOptions& o = a.options;
   o.progress = !a.quiet;
   if (a.paths.empty()) a.paths = shipped_scenarios();
+  refuse_duplicate_scenarios(a);
   // --update writes the baselines: one command at a time
   std::unique_ptr<OutputLock> lock;
   PendingBaselines pending;  // all scenarios' new baselines appear together, or none
@@ -72,8 +109,8 @@ int execute_check(CheckArgs a) {
   const long ungated =
       std::count_if(all.begin(), all.end(), [](const Gate& g) { return !g.gated; });
   reports.write(all, timings);
-  std::cout << format_gates(all) << long(all.size()) - failed - ungated << " gates passed, "
-            << failed << " failed, " << ungated << " not gated\n";
+  reports.table_stream() << format_gates(all) << long(all.size()) - failed - ungated
+                         << " gates passed, " << failed << " failed, " << ungated << " not gated\n";
   return failed > 0 ? kExitGateFailed : kExitOk;
 }
 
@@ -104,9 +141,9 @@ Command add_check_command(CLI::App& app) {
   auto* junit = check->add_option(
       "--junit", a->junit_path,
       "also write the gates as a JUnit XML report to FILE (one test case per gate: scenario, "
-      "engine, quantity; a failure gives baseline, now and allowed)");
-  auto* json =
-      check->add_option("--json", a->json_path, "also write the gate table as JSON to FILE");
+      "engine, quantity; a failure gives baseline, now and allowed); - for standard output");
+  auto* json = check->add_option(
+      "--json", a->json_path, "also write the gate table as JSON to FILE; - for standard output");
   auto* update = check->get_option("--update");
   junit->excludes(update), json->excludes(update);
   check->add_option("--jobs,-j", o.jobs, "threads for the stability searches")

@@ -30,7 +30,25 @@ std::string csv_field(const std::string& f) {
   return q + "\"";
 }
 
-AtomicFile::AtomicFile(std::string path) : m_path(std::move(path)) {
+namespace {
+
+/// The file a path names: a symlink is followed to the file it points to (which is then
+/// written, and the link stays), through at most 40 links.
+std::string followed(std::string path) {
+  namespace fs = std::filesystem;
+  for (int hops = 0; hops < 40; ++hops) {
+    std::error_code ec;
+    if (!fs::is_symlink(path, ec)) return path;
+    const fs::path target = fs::read_symlink(path, ec);
+    if (ec) return path;
+    path = (target.is_absolute() ? target : fs::path(path).parent_path() / target).string();
+  }
+  throw UserError("cannot write " + path + ": too many levels of symbolic links");
+}
+
+}  // namespace
+
+AtomicFile::AtomicFile(std::string path) : m_path(followed(std::move(path))) {
   const std::filesystem::path p(m_path);
   m_tmp = (p.parent_path() / ("." + p.filename().string() + ".tmp." + std::to_string(::getpid())))
               .string();
@@ -84,7 +102,13 @@ void CsvWriter::end_row() {
 }
 
 void make_directories(const std::string& dir) {
+  namespace fs = std::filesystem;
   std::error_code ec;
+  // a symlink to nowhere: say so (creating the folder it names is the user's choice)
+  if (fs::is_symlink(dir, ec) && !fs::exists(dir, ec))
+    throw UserError("output folder " + dir + " is a symlink to " +
+                    fs::read_symlink(dir, ec).string() +
+                    ", which does not exist; create it or choose another output folder");
   std::filesystem::create_directories(dir, ec);
   if (ec || !std::filesystem::is_directory(dir))
     throw UserError("cannot create output folder " + dir + ": " +

@@ -39,6 +39,19 @@ bool same_file(int fd, const std::string& path) {
 
 }  // namespace
 
+std::string lock_holder(const std::string& dir) {
+  const std::string path = dir + "/" + kLockFileName;
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return "";
+  // a shared lock is refused only while a command holds the exclusive one
+  const bool held = ::flock(fd, LOCK_SH | LOCK_NB) != 0 && errno == EWOULDBLOCK;
+  ::close(fd);
+  if (!held) return "";
+  std::string holder = read_text(path);
+  while (!holder.empty() && holder.back() == '\n') holder.pop_back();
+  return holder.empty() ? std::string("unknown") : holder;
+}
+
 OutputLock::OutputLock(const std::string& dir) : m_dir(dir), m_path(dir + "/" + kLockFileName) {
   std::error_code ec;
   m_created = !std::filesystem::exists(dir, ec) && !ec;

@@ -11,6 +11,10 @@ namespace clothbench {
 /// The name of the lock file in an output folder.
 extern const char* const kLockFileName;
 
+/// The holder ("pid N: command line") of the lock of dir when another process holds it, ""
+/// when nobody does (or dir has no lock file).
+std::string lock_holder(const std::string& dir);
+
 /// Holds the lock of an output folder for its lifetime.
 class OutputLock {
  public:

@@ -1,6 +1,8 @@
 #include "harness/progress.hpp"
 
 #include <unistd.h>
+
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -31,8 +33,21 @@ void Progress::line(const std::string& text) {
   if (m_live) draw(true);
 }
 
+void Progress::log_line() {
+  if (!m_enabled || m_total <= 0) return;
+  const double percent = 100 * std::min(1.0, m_done / m_total);
+  if (percent < m_next_percent) return;
+  while (m_next_percent <= percent) m_next_percent += 5;
+  const double elapsed =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - m_start).count();
+  const double eta = m_done > 0 ? elapsed * (m_total - m_done) / m_done : 0.0;
+  std::fprintf(stderr, "progress: %3.0f%% of %.0f %s after %.0f s, ETA %.0f s (%s)\n",
+               std::floor(percent), m_total, m_unit.c_str(), elapsed, eta, m_label.c_str());
+  std::fflush(stderr);
+}
+
 void Progress::draw(bool force) {
-  if (!m_live) return;
+  if (!m_live) return log_line();
   const auto now = std::chrono::steady_clock::now();
   if (!force && now - m_last_draw < std::chrono::milliseconds(100)) return;
   m_last_draw = now;

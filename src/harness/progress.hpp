@@ -1,7 +1,7 @@
 #pragma once
 /// @file progress.hpp
 /// Progress on stderr: a live bar (done / total, rate, ETA) when stderr is a terminal,
-/// otherwise nothing but the lines the caller prints.
+/// otherwise a plain line every 5 % of the work (a CI log or `| tee` shows that work goes on).
 
 #include <chrono>
 #include <string>
@@ -24,7 +24,9 @@ class Progress {
 
  private:
   void draw(bool force);
+  void log_line();
   double m_total, m_done = 0;
+  double m_next_percent = 5;  // the next share of the work a plain line is printed at
   std::string m_unit, m_label;
   bool m_enabled, m_live;
   std::chrono::steady_clock::time_point m_start, m_last_draw;

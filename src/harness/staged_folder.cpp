@@ -20,10 +20,21 @@ namespace fs = std::filesystem;
 
 namespace {
 
-/// The folder without a trailing separator, so that its name and parent are well defined.
+/// The folder without a trailing separator, so that its name and parent are well defined; a
+/// symlink is followed, so that the new files land in the folder it points to and the link
+/// stays (a dangling one is refused).
 fs::path normalised(const std::string& dir) {
   fs::path p = fs::absolute(fs::path(dir)).lexically_normal();
   if (p.filename().empty()) p = p.parent_path();
+  std::error_code ec;
+  if (fs::is_symlink(p, ec)) {
+    const fs::path target = fs::canonical(p, ec);
+    if (ec)
+      throw UserError("output folder " + dir + " is a symlink to " +
+                      fs::read_symlink(p, ec).string() +
+                      ", which does not exist; create it or choose another output folder");
+    return target;
+  }
   return p;
 }
 
