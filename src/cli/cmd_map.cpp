@@ -1,6 +1,7 @@
 /// @file cmd_map.cpp
 /// `clothbench map`: the stability search over a grid of one or two varied scenario keys.
 
+#include <algorithm>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -10,6 +11,7 @@
 #include "exit_codes.hpp"
 #include "harness/output_lock.hpp"
 #include "harness/stability_map.hpp"
+#include "harness/user_error.hpp"
 #include "option_checks.hpp"
 #include "scenario_input.hpp"
 
@@ -25,10 +27,52 @@ struct MapArgs {
   MapOptions options;          // out_dir empty: out/<scenario name>-map
 };
 
+/// The key of a --set KEY=VALUE (the text before the first '=').
+std::string override_key(const std::string& text) {
+  return text.substr(0, text.find('='));
+}
+
+/// Why the map cannot vary key, "" when it can: a key the search sets at every point itself
+/// (an engine's dt or integrator, the frame interval, the name), or an engine's key that -e
+/// leaves out; either would give identical rows under different labels.
+std::string unvariable(const std::string& key, const std::vector<std::string>& engines) {
+  if (key == "name") return "the scenario's name labels the sweep, not the physics";
+  if (key == "frame_interval") return "the search sets the frame interval itself";
+  if (key.rfind("engine.", 0) != 0) return "";
+  const size_t dot = key.find('.', 7);
+  const std::string engine = key.substr(7, dot == std::string::npos ? dot : dot - 7);
+  const std::string field = dot == std::string::npos ? "" : key.substr(dot + 1);
+  if (field == "dt") return "the search sets each engine's dt itself";
+  if (field == "integrator") return "-i chooses the integrators the search tries";
+  if (!engines.empty() && std::find(engines.begin(), engines.end(), engine) == engines.end())
+    return "the engine " + engine + " is left out by -e";
+  return "";
+}
+
+/// Throws UserError naming the option when the --vary keys cannot make an honest map: a key
+/// varied twice, a key also given to --set, or a key the search sets itself.
+void refuse_vary_conflicts(const MapArgs& a) {
+  for (size_t i = 0; i < a.options.varied.size(); ++i) {
+    const std::string& key = a.options.varied[i].key;
+    const std::string option = "--vary " + a.vary[i];
+    for (size_t j = 0; j < i; ++j)
+      if (a.options.varied[j].key == key)
+        throw UserError(option + ": " + key + " is varied twice (--vary " + a.vary[j] +
+                        "); give each key once, with all its values");
+    for (const std::string& o : a.overrides)
+      if (override_key(o) == key)
+        throw UserError(option + ": " + key + " is also set by --set " + o +
+                        "; vary it or set it, not both");
+    if (const std::string why = unvariable(key, a.options.search.engines); !why.empty())
+      throw UserError(option + ": " + key + " cannot be varied: " + why);
+  }
+}
+
 int execute_map(MapArgs a) {
   MapOptions& o = a.options;
   o.search.progress = !a.quiet;
   for (const std::string& v : a.vary) o.varied.push_back(parse_varied_key(v));
+  refuse_vary_conflicts(a);
   const auto load = [&a](const std::vector<std::string>& point) {
     std::vector<std::string> overrides = a.overrides;
     overrides.insert(overrides.end(), point.begin(), point.end());

@@ -4,7 +4,7 @@
 
 #include <cmath>
 #include <cstdlib>
-#include <set>
+#include <map>
 
 #include "harness/csv_writer.hpp"
 #include "harness/user_error.hpp"
@@ -93,11 +93,18 @@ VariedKey parse_varied_key(const std::string& text) {
   } else {
     throw UserError(option + ": expected a list V1,V2,... or a range A:B:log:N");
   }
-  std::set<std::string> seen;
-  for (const std::string& v : k.values)
-    if (v.empty() || !seen.insert(v).second)
-      throw UserError(option + ": the value '" + v + "' is " +
-                      (v.empty() ? "empty" : "given twice"));
+  // a value given twice, also when written differently (1, 1.0 and 1e0 are one number)
+  std::map<std::string, std::string> seen;  // the value as compared -> as written
+  for (const std::string& v : k.values) {
+    if (v.empty()) throw UserError(option + ": the value '' is empty");
+    char* end = nullptr;
+    const double d = std::strtod(v.c_str(), &end);
+    const std::string same = *end == '\0' && std::isfinite(d) ? format_double(d) : v;
+    const auto [at, fresh] = seen.emplace(same, v);
+    if (!fresh)
+      throw UserError(option + ": the value '" + v + "' is given twice" +
+                      (at->second == v ? std::string() : " (as '" + at->second + "')"));
+  }
   return k;
 }
 

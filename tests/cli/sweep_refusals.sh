@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Sweeps that would lie (issue 27): a map whose --vary gives one key twice, a key --set also
+# sets, a key the search sets itself (an engine's dt or integrator, frame_interval, name, an
+# engine left out by -e) or one value in two spellings is refused before any work, naming
+# the option; nothing is written.
+# Usage: sweep_refusals.sh CLOTHBENCH SOURCE_DIR WORK_DIR
+set -u
+clothbench=$1 source=$2 work=$3
+source "$(dirname "$0")/expect.sh"
+chain=$source/scenarios/hanging_chain.toml
+has() { grep -q -- "$2" "$work/$1" || fail "$3: no \"$2\" in $1: $(head -c 400 "$work/$1")"; }
+refused() {  # refused WHAT EXPECTED-MESSAGE ARGS...
+  local what=$1 message=$2
+  shift 2
+  expect 2 "$clothbench" map "$chain" -q -o "$work/map" "$@"
+  has stderr "$message" "$what"
+  [ ! -e "$work/map" ] || fail "$what: $work/map was written"
+}
+refused "one key twice" "--vary cloth.damping=0,1: cloth.damping is varied twice (--vary cloth.damping=2,3)" \
+  --vary cloth.damping=2,3 --vary cloth.damping=0,1
+refused "--set and --vary" "--vary cloth.damping=0,1: cloth.damping is also set by --set cloth.damping=5" \
+  --set cloth.damping=5 --vary cloth.damping=0,1
+refused "an engine's dt" "cannot be varied: the search sets each engine's dt itself" \
+  --vary engine.custom-rk4.dt=1e-3,2e-3
+refused "an engine's integrator" "cannot be varied: -i chooses the integrators" \
+  --vary engine.custom-rk4.integrator='"rk4","midpoint"'
+refused "frame_interval" "cannot be varied: the search sets the frame interval itself" \
+  --vary frame_interval=0.01,0.02
+refused "name" "cannot be varied: the scenario's name labels the sweep" --vary 'name="a","b"'
+refused "an engine left out by -e" "cannot be varied: the engine custom-rk4 is left out by -e" \
+  -e custom-symplectic-euler --vary engine.custom-rk4.damping=0,1
+refused "one value in two spellings" "the value '1.0' is given twice (as '1')" \
+  --vary cloth.damping=1,1.0
+refused "one value in two spellings" "the value '1e0' is given twice (as '1')" \
+  --vary cloth.damping=1,2,1e0
+[ "$failures" -eq 0 ] || exit 1
+echo "every lying map is refused before any work"
