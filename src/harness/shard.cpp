@@ -76,6 +76,10 @@ ShardFolder read_shard_folder(const std::string& dir) {
   ShardFolder f;
   f.dir = dir;
   const std::string path = dir + "/" + kShardFile;
+  std::error_code ec;
+  if (!std::filesystem::exists(dir, ec)) throw UserError(dir + ": no such folder");
+  if (!std::filesystem::is_directory(dir, ec))
+    throw UserError(dir + ": a file, not the folder of a sharded sweep");
   if (!std::filesystem::exists(path))
     throw UserError(dir + ": no " + kShardFile +
                     ": not the folder of a sharded sweep (stability, accuracy or map with "

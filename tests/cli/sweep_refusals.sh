@@ -33,5 +33,13 @@ refused "one value in two spellings" "the value '1.0' is given twice (as '1')" \
   --vary cloth.damping=1,1.0
 refused "one value in two spellings" "the value '1e0' is given twice (as '1')" \
   --vary cloth.damping=1,2,1e0
+
+# merge names what is wrong with a folder it is given
+expect 2 "$clothbench" merge "$work/merged" "$work/no-such-folder"
+has stderr "$work/no-such-folder: no such folder" "merge of a missing folder"
+echo x >"$work/plain-file"
+expect 2 "$clothbench" merge "$work/merged" "$work/plain-file"
+has stderr "$work/plain-file: a file, not the folder of a sharded sweep" "merge of a plain file"
+
 [ "$failures" -eq 0 ] || exit 1
-echo "every lying map is refused before any work"
+echo "every lying map is refused before any work; merge names a missing folder and a file"
