@@ -176,6 +176,8 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
     const bool last = f == frames || !run.stable;
     if (last || (frames_per_snapshot > 0 && f % frames_per_snapshot == 0)) snapshot();
   }
+  // a run that blew up before its first frame has no energy error (not 0: nothing was measured)
+  if (!run.stable && !run.timed_out && run.frames.size() <= 2) run.max_energy_error = NAN;
   run.counters = sim->counters();
   run.final_kinetic = run.frames.back().kinetic;
   run.final_static_residual =
@@ -246,6 +248,12 @@ RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
     result.divergence.push_back(std::move(d));
   }
   return result;
+}
+
+double final_divergence(const RunResult& result, size_t i) {
+  const std::vector<Divergence>& d = result.divergence[i];
+  if (d.empty() || !result.runs[size_t(result.reference)].stable) return NAN;
+  return d.back().rms_distance;
 }
 
 double final_drape_coefficient(const RunResult& result, const EngineRun& run) {
@@ -349,13 +357,22 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
       summary.skip();  // a timeout: stable 0 with no blow-up time
     else
       summary.add(run.blowup_t);
-    summary.add(run.max_energy_error);
-    if (d.empty()) {
-      summary.skip().skip();
+    // undefined (blew up before its first frame): empty; a NaN energy stays "nan"
+    if (!run.stable && std::isnan(run.max_energy_error))
+      summary.skip();
+    else
+      summary.add(run.max_energy_error);
+    const double final_rms = final_divergence(result, i);
+    if (std::isnan(final_rms))
+      summary.skip();
+    else
+      summary.add(final_rms);
+    if (d.size() <= 1) {
+      summary.skip();  // nothing after the common start was compared
     } else {
       double worst = 0;
       for (const Divergence& x : d) worst = std::max(worst, x.rms_distance);
-      summary.add(d.back().rms_distance).add(worst);
+      summary.add(worst);
     }
     const double dc = final_drape_coefficient(result, run);
     if (std::isnan(dc))

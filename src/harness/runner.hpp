@@ -83,6 +83,11 @@ void write_run(const RunResult& result, const std::string& dir);
 /// Total steps of one engine over the scenario (for progress).
 long long planned_steps(const Scenario& sc, const EngineSpec& spec);
 
+/// RMS distance of engine i from the reference at their last common frame; NaN (undefined,
+/// written empty) when there is none or when the reference did not run the whole scenario
+/// (it blew up or timed out: its last frame is not the scene's end).
+double final_divergence(const RunResult& result, size_t i);
+
 /// Drape coefficient of the final frame of run, NaN when the scene has no support.
 double final_drape_coefficient(const RunResult& result, const EngineRun& run);
 

@@ -16,17 +16,21 @@ std::string run_summary(const RunResult& result) {
   out << "engine,integrator,dt,stable,us_per_step,max_energy_error,final_rms_vs_reference\n";
   for (size_t i = 0; i < result.runs.size(); ++i) {
     const EngineRun& r = result.runs[i];
-    const auto& d = result.divergence[i];
     out << r.spec.name << ','
         << (engine_kind_info(r.spec.kind).has_integrators
                 ? cloth::integrator_name(r.spec.solver.integrator)
                 : engine_kind_name(r.spec.kind))
         << ',' << format_double(r.spec.dt) << ','
-        << (r.stable ? "yes" : r.timed_out ? "timeout" : "no") << ','
+        << (r.stable      ? "yes"
+            : r.timed_out ? "timeout"
+                          : "no")
+        << ','
         << format_double(
                std::round(1e7 * r.wall_s / std::max<double>(1, double(r.counters.steps))) / 10)
-        << ',' << format_double(r.max_energy_error) << ','
-        << (d.empty() ? std::string("") : format_double(d.back().rms_distance)) << '\n';
+        << ',' << (std::isnan(r.max_energy_error) ? "" : format_double(r.max_energy_error)) << ','
+        << (std::isnan(final_divergence(result, i)) ? std::string("")
+                                                    : format_double(final_divergence(result, i)))
+        << '\n';
   }
   return out.str();
 }
