@@ -9,11 +9,12 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/output_lock.hpp"
-#include "harness/stability_map.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/output_lock.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/sweeps/stability_map.hpp"
 #include "option_checks.hpp"
 #include "scenario_input.hpp"
+#include "summaries.hpp"
 
 namespace clothbench::cli {
 namespace {

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "harness/user_error.hpp"
+#include "harness/io/user_error.hpp"
 
 namespace clothbench::cli {
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/shard.hpp"
+#include "harness/sweeps/shard.hpp"
 
 namespace clothbench::cli {
 

@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <system_error>
 
-#include "harness/output_lock.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/output_lock.hpp"
+#include "harness/io/user_error.hpp"
 
 namespace clothbench::cli {
 
