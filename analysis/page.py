@@ -7,7 +7,7 @@ import math
 import os
 
 from .player import CSS as PLAYER_CSS
-from .verdicts import num
+from .quantities import num
 
 # summary.csv column -> header shown (with unit)
 SUMMARY_HEADERS = {
