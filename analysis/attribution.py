@@ -3,7 +3,7 @@ engine's distance from the reference is the time scheme and how much the model."
 
 import math
 
-from .verdicts import length
+from .quantities import length
 
 
 def _row(table, engine, at):

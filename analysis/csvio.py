@@ -145,14 +145,8 @@ def _parse_number(text):
     return value
 
 
-def read_table(path, schema_name=None):
-    """Read one CSV file against the schema of its name (or schema_name).
-
-    Raises ReportError naming the file (and line and column) for a missing file, an empty file,
-    a missing required column, a row with the wrong number of fields or an unparsable value.
-    """
-    name = schema_name or os.path.basename(path)
-    schema = SCHEMAS[name]
+def _numbered_rows(path, schema):
+    """The file's non-blank rows as (line number, fields), the header first."""
     try:
         with open(path, newline="", encoding="utf-8-sig") as f:
             lines = list(csv.reader(f))
@@ -166,7 +160,12 @@ def read_table(path, schema_name=None):
     if not numbered:
         raise ReportError(f"{path}: empty file (expected a header line: "
                           f"{','.join(schema.required)})")
-    header = [cell.strip() for cell in numbered[0][1]]
+    return numbered
+
+
+def _checked_header(path, fields, schema):
+    """The header's column names, once each, with every required column."""
+    header = [cell.strip() for cell in fields]
     missing = [c for c in schema.required if c not in header]
     if missing:
         which = ", ".join(f"'{c}'" for c in missing)
@@ -176,6 +175,47 @@ def read_table(path, schema_name=None):
     duplicates = sorted({c for c in header if header.count(c) > 1})
     if duplicates:
         raise ReportError(f"{path}: duplicate column '{duplicates[0]}' in the header")
+    return header
+
+
+def _parsed_column(path, c, cells, schema):
+    """Column c's cells [(line number, text)] as a numpy array: text, flags or numbers."""
+    for line_no, cell in cells:
+        if c in schema.keys and cell == "":
+            raise ReportError(f"{path} line {line_no}, column '{c}': empty value (required)")
+    if c in schema.text or c not in schema.required:
+        return np.array([cell for _, cell in cells], dtype=object)
+    values = []
+    for line_no, cell in cells:
+        if c in schema.flags:
+            if cell in _TRUE:
+                values.append(1.0)
+            elif cell in _FALSE:
+                values.append(0.0)
+            elif cell == "":
+                values.append(float("nan"))
+            else:
+                raise ReportError(f"{path} line {line_no}, column '{c}': expected 0 or 1, "
+                                  f"got '{cell}'")
+            continue
+        try:
+            values.append(_parse_number(cell))
+        except ValueError:
+            raise ReportError(f"{path} line {line_no}, column '{c}': expected a number, "
+                              f"got '{cell}'") from None
+    return np.array(values, dtype=float)
+
+
+def read_table(path, schema_name=None):
+    """Read one CSV file against the schema of its name (or schema_name).
+
+    Raises ReportError naming the file (and line and column) for a missing file, an empty file,
+    a missing required column, a row with the wrong number of fields or an unparsable value.
+    """
+    name = schema_name or os.path.basename(path)
+    schema = SCHEMAS[name]
+    numbered = _numbered_rows(path, schema)
+    header = _checked_header(path, numbered[0][1], schema)
 
     raw = {c: [] for c in header}
     for line_no, row in numbered[1:]:
@@ -185,34 +225,5 @@ def read_table(path, schema_name=None):
         for c, cell in zip(header, row):
             raw[c].append((line_no, cell.strip()))
 
-    columns = {}
-    for c in header:
-        cells = raw[c]
-        for line_no, cell in cells:
-            if c in schema.keys and cell == "":
-                raise ReportError(f"{path} line {line_no}, column '{c}': empty value (required)")
-        if c in schema.text or c not in schema.required:
-            columns[c] = np.array([cell for _, cell in cells], dtype=object)
-        elif c in schema.flags:
-            values = []
-            for line_no, cell in cells:
-                if cell in _TRUE:
-                    values.append(1.0)
-                elif cell in _FALSE:
-                    values.append(0.0)
-                elif cell == "":
-                    values.append(float("nan"))
-                else:
-                    raise ReportError(f"{path} line {line_no}, column '{c}': expected 0 or 1, "
-                                      f"got '{cell}'")
-            columns[c] = np.array(values, dtype=float)
-        else:
-            values = []
-            for line_no, cell in cells:
-                try:
-                    values.append(_parse_number(cell))
-                except ValueError:
-                    raise ReportError(f"{path} line {line_no}, column '{c}': expected a number, "
-                                      f"got '{cell}'") from None
-            columns[c] = np.array(values, dtype=float)
+    columns = {c: _parsed_column(path, c, raw[c], schema) for c in header}
     return Table(path, columns, header)

@@ -7,7 +7,7 @@ import math
 import os
 
 from .player import CSS as PLAYER_CSS
-from .verdicts import num
+from .quantities import num
 
 # summary.csv column -> header shown (with unit)
 SUMMARY_HEADERS = {
@@ -142,17 +142,8 @@ def _run_info(f):
     return " · ".join(parts)
 
 
-def build(folders, figures, verdict_groups, notes, params, player_html=""):
-    """The page as a string.
-
-    folders         one or two Folder objects
-    figures         list of (stem, title, caption, png path); path None: a plot left out,
-                    whose caption says why
-    verdict_groups  list of (heading, [(kind, text)]) from verdicts
-    notes           list of strings (files missing, plots skipped)
-    params          list of (folder label, [(name, text)]) key scenario parameters
-    player_html     the 3D player's section (player.section), or ""
-    """
+def _head(folders):
+    """The document's head and the page's title, folders, run information and descriptions."""
     names = []
     for f in folders:
         if f.name not in names:
@@ -174,17 +165,13 @@ def build(folders, figures, verdict_groups, notes, params, player_html=""):
     if len(folders) > 1:
         out.append(f'<p class="desc">Comparison: <b>{E(folders[0].label)}</b> is drawn with solid '
                    f'lines, <b>{E(folders[1].label)}</b> with dashed lines.</p>')
+    return out
 
-    # the cloths moving come first: people look before they read
-    if player_html:
-        out.append(player_html)
 
-    # verdicts
-    out.append("<h2>Verdicts</h2>")
-    out.append(verdict_list(verdict_groups) if verdict_groups else
-               "<p>No verdicts: the folder has no run or sweep results.</p>")
-
-    # tables
+def _tables(folders):
+    """The summary, stability, recommendation and convergence tables, then every
+    work-precision and resolution row folded away."""
+    out = []
     summaries = [f for f in folders if f.has("summary.csv")]
     if summaries:
         out.append("<h2>Summary</h2>")
@@ -214,30 +201,60 @@ def build(folders, figures, verdict_groups, notes, params, player_html=""):
                 out.append(f"<details><summary>{E(what)}{E(label)}</summary>")
                 out.append(table(f.table(name), headers))
                 out.append("</details>")
+    return out
 
-    # plots
-    if figures:
-        out.append("<h2>Plots</h2>")
-        for stem, heading, caption, path in figures:
-            if path is None:
-                out.append(f'<h3>{E(heading)}</h3>'
-                           f'<p class="skipped" id="skipped-{E(stem)}">{E(caption)}</p>')
-                continue
-            out.append(f"<figure><h3>{E(heading)}</h3>{image(path)}"
-                       f"<figcaption>{E(caption)}</figcaption></figure>")
 
-    # scenario
-    if any(p for _, p in params) or any(f.scenario_text for f in folders):
-        out.append("<h2>Scenario</h2>")
-        for f, (label, plist) in zip(folders, params):
-            if len(folders) > 1:
-                out.append(f"<h3>{E(label)}</h3>")
-            if plist:
-                out.append('<ul class="params">' + "".join(
-                    f"<li>{E(text)}</li>" for _, text in plist) + "</ul>")
-            if f.scenario_text:
-                out.append("<details><summary>Resolved scenario.toml</summary>"
-                           f"<pre>{E(f.scenario_text)}</pre></details>")
+def _plots(figures):
+    """Each plot as a figure, or its heading and why it is left out."""
+    if not figures:
+        return []
+    out = ["<h2>Plots</h2>"]
+    for stem, heading, caption, path in figures:
+        if path is None:
+            out.append(f'<h3>{E(heading)}</h3>'
+                       f'<p class="skipped" id="skipped-{E(stem)}">{E(caption)}</p>')
+            continue
+        out.append(f"<figure><h3>{E(heading)}</h3>{image(path)}"
+                   f"<figcaption>{E(caption)}</figcaption></figure>")
+    return out
+
+
+def _scenario(folders, params):
+    """Each folder's key scenario parameters and its resolved scenario.toml."""
+    if not (any(p for _, p in params) or any(f.scenario_text for f in folders)):
+        return []
+    out = ["<h2>Scenario</h2>"]
+    for f, (label, plist) in zip(folders, params):
+        if len(folders) > 1:
+            out.append(f"<h3>{E(label)}</h3>")
+        if plist:
+            out.append('<ul class="params">' + "".join(
+                f"<li>{E(text)}</li>" for _, text in plist) + "</ul>")
+        if f.scenario_text:
+            out.append("<details><summary>Resolved scenario.toml</summary>"
+                       f"<pre>{E(f.scenario_text)}</pre></details>")
+    return out
+
+
+def build(folders, figures, verdict_groups, notes, params, player_html=""):
+    """The page as a string.
+
+    folders         one or two Folder objects
+    figures         list of (stem, title, caption, png path); path None: a plot left out,
+                    whose caption says why
+    verdict_groups  list of (heading, [(kind, text)]) from verdicts
+    notes           list of strings (files missing, plots skipped)
+    params          list of (folder label, [(name, text)]) key scenario parameters
+    player_html     the 3D player's section (player.section), or ""
+    """
+    out = _head(folders)
+    # the cloths moving come first: people look before they read
+    if player_html:
+        out.append(player_html)
+    out.append("<h2>Verdicts</h2>")
+    out.append(verdict_list(verdict_groups) if verdict_groups else
+               "<p>No verdicts: the folder has no run or sweep results.</p>")
+    out += _tables(folders) + _plots(figures) + _scenario(folders, params)
     if notes:
         out.append("<h2>Notes</h2><ul class=\"notes\">" +
                    "".join(f"<li>{E(n)}</li>" for n in notes) + "</ul>")

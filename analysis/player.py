@@ -17,7 +17,11 @@ import numpy as np
 from . import trajectory
 
 THREE_JS = "/usr/share/javascript/three/three.min.js"
-PLAYER_JS = os.path.join(os.path.dirname(os.path.abspath(__file__)), "player.js")
+PLAYER_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "player")
+# the player's scripts in analysis/player/, in the order they are joined: each file's top level
+# declares what later files use, and main.js, last, starts the player
+PLAYER_SCRIPTS = ["status.js", "decode.js", "data.js", "state.js", "measure.js", "scene.js",
+                  "camera.js", "paint.js", "draw.js", "controls.js", "main.js"]
 
 CSS = """
 #player { margin: 10px 0 18px; }
@@ -154,6 +158,27 @@ def _viridis():
     return [[round(float(c), 4) for c in cmap(k / 15)[:3]] for k in range(16)]
 
 
+def player_script():
+    """The player's JavaScript for the page's one inline script: the files of analysis/player/
+    joined in PLAYER_SCRIPTS order, inside one function that runs at once.
+
+    A report opened from file:// cannot load ES modules (the browser refuses module scripts
+    from file://, and the page must open by double-click), so the files are plain scripts, not
+    modules: no import or export lines, each declares its variables and functions at its top
+    level, and the one function around all of them gives them a single shared scope, strict
+    mode, and keeps them out of the page's global names. A file of analysis/player/ that is not
+    in PLAYER_SCRIPTS is an error, so none can be left out silently."""
+    present = sorted(f for f in os.listdir(PLAYER_DIR) if f.endswith(".js"))
+    if present != sorted(PLAYER_SCRIPTS):
+        raise RuntimeError(f"{PLAYER_DIR} holds {', '.join(present)}; player.py joins "
+                           f"{', '.join(PLAYER_SCRIPTS)}")
+    parts = []
+    for name in PLAYER_SCRIPTS:
+        with open(os.path.join(PLAYER_DIR, name), encoding="utf-8") as fh:
+            parts.append(f"// --- player/{name}\n{fh.read()}")
+    return '(function () {\n"use strict";\n' + "\n".join(parts) + "})();\n"
+
+
 def section(folders, colors):
     """The player's HTML (heading included), or a paragraph saying why it is left out."""
     E = html.escape
@@ -167,8 +192,7 @@ def section(folders, colors):
     data = json.dumps(payload(runs, colors), separators=(",", ":"))
     with open(three_js_path(), encoding="utf-8") as fh:
         three = fh.read()
-    with open(PLAYER_JS, encoding="utf-8") as fh:
-        player = fh.read()
+    player = player_script()
     controls = (
         '<div class="player-controls">'
         '<button id="player-play">▶ play</button>'

@@ -107,13 +107,8 @@ def notes_for(folders):
     return notes
 
 
-def run(argv):
-    args = parse_args(argv)
-    labels = labels_for(args)
-    folders = [Folder(args.dir, labels[0])]
-    if args.compare:
-        folders.append(Folder(args.compare, labels[1]))
-    snapshot_times = parse_times(args.snapshot_times)
+def _output_folder(args):
+    """The folder the report goes to, created and checked writable."""
     outdir = args.out or (args.dir if not args.compare else os.path.join(
         args.dir, "compare-" + os.path.basename(os.path.normpath(args.compare))))
     try:
@@ -122,6 +117,54 @@ def run(argv):
         raise ReportError(f"{outdir}: cannot create the output folder: {e.strerror}") from None
     if not os.access(outdir, os.W_OK):
         raise ReportError(f"{outdir}: output folder is not writable")
+    return outdir
+
+
+def _colored_keys(folders, style):
+    """Every engine, and every engine / integrator of the sweeps, in the order colours go."""
+    engines = []
+    for f in folders:
+        engines += [e for e in f.engines() if e not in engines]
+        for name in ("work_precision.csv", "stability.csv", "convergence.csv", "resolution.csv"):
+            if f.has(name):
+                keys = [style.config_key(e, i) for e, i in style.configs(f.table(name))]
+                engines += [k for k in keys if k not in engines]
+    return engines
+
+
+def _figures(folders, ctx, plots):
+    """(stem, title, caption, PNG path) of each plot, or (stem, title, why it is left out,
+    None)."""
+    figures = []
+    for plot in plots:
+        if any(plot.available(f) for f in folders):
+            reason = plot.skip_reason(folders) if hasattr(plot, "skip_reason") else None
+            if reason:
+                figures.append((plot.STEM, plot.TITLE, f"Not drawn: {reason}", None))
+            else:
+                figures.append((plot.STEM, plot.TITLE, plot.CAPTION, plot.draw(folders, ctx)))
+    return figures
+
+
+def _verdict_groups(folders, verdicts):
+    groups = []
+    for f in folders:
+        prefix = f"{f.label}: " if len(folders) > 1 else ""
+        groups += [(prefix + h, lines) for h, lines in verdicts.run_verdicts(f)]
+        groups += [(prefix + h, lines) for h, lines in verdicts.sweep_verdicts(f)]
+    if len(folders) == 2:
+        groups = verdicts.compare_verdicts(*folders) + groups
+    return groups
+
+
+def run(argv):
+    args = parse_args(argv)
+    labels = labels_for(args)
+    folders = [Folder(args.dir, labels[0])]
+    if args.compare:
+        folders.append(Folder(args.compare, labels[1]))
+    snapshot_times = parse_times(args.snapshot_times)
+    outdir = _output_folder(args)
 
     if args.movie:
         from analysis import movie
@@ -132,32 +175,10 @@ def run(argv):
     from analysis import page, player, verdicts
     from analysis.plots import ALL, Context, style
 
-    engines = []
-    for f in folders:
-        engines += [e for e in f.engines() if e not in engines]
-        for name in ("work_precision.csv", "stability.csv", "convergence.csv", "resolution.csv"):
-            if f.has(name):
-                keys = [style.config_key(e, i) for e, i in style.configs(f.table(name))]
-                engines += [k for k in keys if k not in engines]
-    ctx = Context(outdir, args.svg, style.Colors(engines), snapshot_times, args.tolerance)
-
-    # (stem, title, caption, PNG path) of each plot, or (stem, title, why it is left out, None)
-    figures = []
-    for plot in ALL:
-        if any(plot.available(f) for f in folders):
-            reason = plot.skip_reason(folders) if hasattr(plot, "skip_reason") else None
-            if reason:
-                figures.append((plot.STEM, plot.TITLE, f"Not drawn: {reason}", None))
-            else:
-                figures.append((plot.STEM, plot.TITLE, plot.CAPTION, plot.draw(folders, ctx)))
-
-    groups = []
-    for f in folders:
-        prefix = f"{f.label}: " if len(folders) > 1 else ""
-        groups += [(prefix + h, lines) for h, lines in verdicts.run_verdicts(f)]
-        groups += [(prefix + h, lines) for h, lines in verdicts.sweep_verdicts(f)]
-    if len(folders) == 2:
-        groups = verdicts.compare_verdicts(*folders) + groups
+    ctx = Context(outdir, args.svg, style.Colors(_colored_keys(folders, style)), snapshot_times,
+                  args.tolerance)
+    figures = _figures(folders, ctx, ALL)
+    groups = _verdict_groups(folders, verdicts)
     params = [(f.label, style.scenario_params(f)) for f in folders]
     text = page.build(folders, figures, groups, notes_for(folders), params,
                       player.section(folders, ctx.colors))

@@ -8,37 +8,8 @@ import math
 
 import numpy as np
 
-def num(x, sig=3):
-    """A number with 3 significant digits and a short exponent (2e-4)."""
-    if isinstance(x, str):
-        return x
-    if x is None or (isinstance(x, float) and math.isnan(x)):
-        return "n/a"
-    if x == 0:
-        return "0"
-    if math.isinf(x):
-        return "infinite"
-    if 1e-3 <= abs(x) < 1e6:
-        text = f"{x:.{sig}g}"
-        return text if "e" not in text else f"{x:.0f}"
-    mant, exp = f"{x:.{sig - 1}e}".split("e")
-    return f"{mant.rstrip('0').rstrip('.')}e{int(exp)}"
-
-
-def length(x):
-    """A distance in m, mm or µm."""
-    if x is None or not math.isfinite(x):
-        return num(x)
-    a = abs(x)
-    if a == 0:
-        return "0 m"
-    if a >= 1:
-        return f"{x:.3g} m"
-    if a >= 1e-3:
-        return f"{x * 1e3:.3g} mm"
-    if a >= 1e-6:
-        return f"{x * 1e6:.3g} µm"
-    return f"{num(x)} m"
+from .attribution import attribution_verdicts
+from .quantities import length, num
 
 
 def _finite(v):
@@ -60,13 +31,7 @@ def _force_evals_text(n, kind):
     return f" ({int(n)} force evaluations)" if _finite(n) else ""
 
 
-def run_verdicts(f):
-    """Verdicts of one run folder (any of frames, divergence, summary, snapshots)."""
-    groups = []
-    engines = f.engines()
-    duration = f.scenario.get("duration")
-
-    # stability
+def _stability_lines(f, engines, duration):
     lines = []
     if f.has("summary.csv") or f.has("frames.csv"):
         for e in engines:
@@ -79,62 +44,66 @@ def run_verdicts(f):
                 lines.append(("bad", f"{e}: UNSTABLE, blew up {when}: the largest strain passed "
                               f"{num(f.blowup_strain())} or a coordinate became non-finite; its "
                               f"results stop there."))
-    if lines:
-        groups.append(("Stability", lines))
+    return lines
 
-    # energy
+
+def _energy_line(f, frames, e):
+    """The energy line of engine e from frames.csv, or None (no finite error)."""
+    gated, note = f.energy_gated(e)
+    if not gated:
+        # run.json says why (for a position-based soft body: no spring damper, its
+        # dissipated column is each step's energy balance)
+        return ("info", f"{e}: no energy check: its energy error is {note}.")
+    rows = _sorted_rows(frames, e)
+    rows = rows.where(rows["stable"] >= 0.5)
+    err = np.abs(rows["energy_error"])
+    err = err[np.isfinite(err)]
+    if not len(err):
+        return None
+    e0 = rows["total_energy"][0] if len(rows) else math.nan
+    rel = f" ({num(100 * err.max() / abs(e0), 2)} % of the initial total energy " \
+          f"{num(float(e0))} J)" if _finite(e0) and e0 != 0 else ""
+    until = "" if f.blowup(e) is None else " before the blow-up"
+    return ("info", f"{e}: energy error at most {num(float(err.max()))} J{rel}{until}.")
+
+
+def _energy_lines(f, engines):
     lines = []
     if f.has("frames.csv"):
         frames = f.table("frames.csv")
-        for e in engines:
-            gated, note = f.energy_gated(e)
-            if not gated:
-                # run.json says why (for a position-based soft body: no spring damper, its
-                # dissipated column is each step's energy balance)
-                lines.append(("info", f"{e}: no energy check: its energy error is {note}."))
-                continue
-            rows = _sorted_rows(frames, e)
-            rows = rows.where(rows["stable"] >= 0.5)
-            err = np.abs(rows["energy_error"])
-            err = err[np.isfinite(err)]
-            if not len(err):
-                continue
-            e0 = rows["total_energy"][0] if len(rows) else math.nan
-            rel = f" ({num(100 * err.max() / abs(e0), 2)} % of the initial total energy " \
-                  f"{num(float(e0))} J)" if _finite(e0) and e0 != 0 else ""
-            until = "" if f.blowup(e) is None else " before the blow-up"
-            lines.append(("info", f"{e}: energy error at most {num(float(err.max()))} J"
-                                  f"{rel}{until}."))
+        lines = [line for line in (_energy_line(f, frames, e) for e in engines) if line]
     elif f.has("summary.csv"):
         for row in f.table("summary.csv").rows():
             if _finite(row["max_energy_error"]):
                 lines.append(("info", f"{row['engine']}: energy error at most "
                               f"{num(abs(row['max_energy_error']))} J."))
-    if lines:
-        groups.append(("Energy", lines))
+    return lines
 
-    # divergence
-    lines = []
-    if f.has("divergence.csv"):
-        div = f.table("divergence.csv")
-        for e in div.unique("engine"):
-            rows = _sorted_rows(div, e)
-            ref = rows["reference"][0]
-            blow = f.blowup(e)
-            if blow is not None and _finite(blow):
-                rows = rows.where(rows["t"] < blow)
-            rms = rows["rms_distance"]
-            if not len(rows) or not np.any(np.isfinite(rms)):
-                lines.append(("bad", f"{e} vs {ref}: no finite distance before the blow-up."))
-                continue
-            k = int(np.nanargmax(rms))
-            end = "before the blow-up" if blow is not None else "at the end"
-            text = (f"{e} vs {ref}: RMS distance {length(float(rms[-1]))} {end} "
+
+def _divergence_line(f, div, e):
+    """The divergence line of engine e from divergence.csv."""
+    rows = _sorted_rows(div, e)
+    ref = rows["reference"][0]
+    blow = f.blowup(e)
+    if blow is not None and _finite(blow):
+        rows = rows.where(rows["t"] < blow)
+    rms = rows["rms_distance"]
+    if not len(rows) or not np.any(np.isfinite(rms)):
+        return ("bad", f"{e} vs {ref}: no finite distance before the blow-up.")
+    k = int(np.nanargmax(rms))
+    end = "before the blow-up" if blow is not None else "at the end"
+    return ("info", f"{e} vs {ref}: RMS distance {length(float(rms[-1]))} {end} "
                     f"(t = {num(float(rows['t'][-1]))} s), at most {length(float(rms[k]))} "
                     f"(t = {num(float(rows['t'][k]))} s); largest particle distance at most "
                     f"{length(float(np.nanmax(rows['max_distance'])))}; centres of mass "
                     f"{length(float(rows['com_distance'][-1]))} apart {end}.")
-            lines.append(("info", text))
+
+
+def _divergence_lines(f):
+    lines = []
+    if f.has("divergence.csv"):
+        div = f.table("divergence.csv")
+        lines = [_divergence_line(f, div, e) for e in div.unique("engine")]
     elif f.has("summary.csv"):
         ref = f.reference()
         for row in f.table("summary.csv").rows():
@@ -142,31 +111,39 @@ def run_verdicts(f):
                 lines.append(("info", f"{row['engine']} vs {ref}: final RMS distance "
                               f"{length(row['final_rms_vs_reference'])}, at most "
                               f"{length(row['max_rms_vs_reference'])}."))
-    if lines:
-        groups.append(("Divergence from the reference", lines))
+    return lines
 
-    # drape
+
+def _drape_and_cost_lines(f):
     lines = []
-    if f.has("summary.csv"):
-        coeffs = [(r["engine"], r["drape_coefficient"]) for r in f.table("summary.csv").rows()
-                  if _finite(r["drape_coefficient"])]
-        if coeffs:
-            values = [c for _, c in coeffs]
-            text = "Drape coefficients: " + ", ".join(f"{e} {c:.3f}" for e, c in coeffs)
-            if len(values) > 1:
-                text += f" (spread {max(values) - min(values):.3f})"
-            lines.append(("info", text + "."))
-        cost = [(r["engine"], r["us_per_step"], r["force_evals"], str(r.get("kind", "")))
-                for r in f.table("summary.csv").rows() if _finite(r["us_per_step"])]
-        if cost:
-            lines.append(("info", "Cost per step: " + ", ".join(
-                f"{e} {num(us)} µs" + _force_evals_text(n, kind)
-                for e, us, n, kind in cost) + "."))
-    if lines:
-        groups.append(("Drape and cost", lines))
-    from .attribution import attribution_verdicts
-    groups += [g for g in [attribution_verdicts(f)] if g]
-    return groups
+    if not f.has("summary.csv"):
+        return lines
+    coeffs = [(r["engine"], r["drape_coefficient"]) for r in f.table("summary.csv").rows()
+              if _finite(r["drape_coefficient"])]
+    if coeffs:
+        values = [c for _, c in coeffs]
+        text = "Drape coefficients: " + ", ".join(f"{e} {c:.3f}" for e, c in coeffs)
+        if len(values) > 1:
+            text += f" (spread {max(values) - min(values):.3f})"
+        lines.append(("info", text + "."))
+    cost = [(r["engine"], r["us_per_step"], r["force_evals"], str(r.get("kind", "")))
+            for r in f.table("summary.csv").rows() if _finite(r["us_per_step"])]
+    if cost:
+        lines.append(("info", "Cost per step: " + ", ".join(
+            f"{e} {num(us)} µs" + _force_evals_text(n, kind)
+            for e, us, n, kind in cost) + "."))
+    return lines
+
+
+def run_verdicts(f):
+    """Verdicts of one run folder (any of frames, divergence, summary, snapshots)."""
+    engines = f.engines()
+    groups = [("Stability", _stability_lines(f, engines, f.scenario.get("duration"))),
+              ("Energy", _energy_lines(f, engines)),
+              ("Divergence from the reference", _divergence_lines(f)),
+              ("Drape and cost", _drape_and_cost_lines(f))]
+    groups = [(heading, lines) for heading, lines in groups if lines]
+    return groups + [g for g in [attribution_verdicts(f)] if g]
 
 
 def compare_verdicts(a, b):
@@ -266,89 +243,104 @@ def best_error(f, rec_row):
             f"{_key(wp['engine'][k], wp['integrator'][k])} at dt {num(float(wp['dt'][k]))} s")
 
 
+def _stability_limit_line(r):
+    """The line of one stability.csv row."""
+    key = _key(r["engine"], r["integrator"])
+    if not _finite(r["stable_dt"]):
+        return ("bad", f"{key}: no stable time step found.")
+    text = f"{key}: largest stable dt {num(r['stable_dt'])} s"
+    # a search that never failed stopped at --dt-max: the measured limit is a lower bound
+    censored = not _finite(r["first_unstable_dt"])
+    if censored:
+        text += " (no failure up to the largest step tried, so the limit is at least that)"
+    else:
+        text += f" (first failure at {num(r['first_unstable_dt'])} s"
+        text += f", {r['cause']})" if r["cause"] else ")"
+    kind, more = stability_agreement(r["stable_dt"], r["predicted_dt"],
+                                     r["ratio_measured_to_predicted"], censored)
+    return (kind, text + more + ".")
+
+
+def _convergence_line(f, r):
+    """The line of one convergence.csv row."""
+    key = _key(r["engine"], r["integrator"])
+    if not _finite(r["order"]):
+        return ("bad", f"{key}: no order fitted.")
+    pts = f" from {int(r['points'])} points" if _finite(r["points"]) else ""
+    text = f"{key}: measured order {r['order']:.2f}{pts}"
+    expected = f.expected_order(r["integrator"]) if r["engine"] != "" else None
+    kind = "info"
+    if expected is not None:
+        ok = abs(r["order"] - expected) <= 0.3
+        kind = "ok" if ok else "bad"
+        text += f" (expected {expected})"
+    return (kind, text + ".")
+
+
+def _recommendation_line(f, r):
+    """The line of one recommendation.csv row."""
+    scope = "overall" if r["scope"] == "overall" else f"for {r['engine']}"
+    tol = f" within tolerance {num(r['tolerance'])} m" \
+        if _finite(r["tolerance"]) else ""
+    if not recommendation_found(r):
+        return ("bad", f"Nothing meets the tolerance {scope}: no stable "
+                       f"configuration{tol}{best_error(f, r)}.")
+    return ("ok", f"Cheapest{tol} {scope}: {_key(r['engine'], r['integrator'])} "
+                  f"at dt {num(r['dt'])} s (max error {length(r['error_max'])}, "
+                  f"{num(r['wall_s_per_sim_s'])} s of wall time per simulated "
+                  f"second).")
+
+
+def _accuracy_lines(f):
+    lines = []
+    if f.has("work_precision.csv"):
+        wp = f.table("work_precision.csv")
+        unstable = int(np.sum(wp["stable"] < 0.5))
+        lines.append(("info", f"{len(wp)} configurations run, {unstable} of them unstable."))
+    if f.has("recommendation.csv"):
+        rec = f.table("recommendation.csv")
+        for r in sorted(rec.rows(), key=lambda r: r["scope"] != "overall"):
+            lines.append(_recommendation_line(f, r))
+        if f.has("work_precision.csv"):
+            scopes = {r["engine"] for r in rec.rows() if r["scope"] != "overall"}
+            for e in f.table("work_precision.csv").unique("engine"):
+                if e not in scopes:
+                    lines.append(("bad", f"{e}: no stable configuration meets the tolerance."))
+    return lines
+
+
+def _resolution_lines(f):
+    lines = []
+    res = f.table("resolution.csv")
+    for e, i in dict.fromkeys(zip(res["engine"], res["integrator"])):
+        key = _key(e, i)
+        rows = res.where((res["engine"] == e) & (res["integrator"] == i))
+        rows = rows.where(np.argsort(rows["particles"], kind="stable"))
+        ok = (rows["stable"] >= 0.5) & np.isfinite(rows["error_final"])
+        unstable = [_grid(p) for p in rows["particles"][rows["stable"] < 0.5]]
+        parts = [f"{length(float(err))} on {_grid(p)}"
+                 for p, err in zip(rows["particles"][ok], rows["error_final"][ok])]
+        text = f"{key}: final error {', '.join(parts)}" if parts else f"{key}: no stable grid"
+        if unstable:
+            text += f"; unstable on {', '.join(unstable)}"
+        lines.append(("bad" if unstable else "info", text + "."))
+    return lines
+
+
 def sweep_verdicts(f):
+    """Verdicts of a sweep folder (any of stability, convergence, work-precision,
+    recommendation and resolution CSV files)."""
     groups = []
     if f.has("stability.csv"):
-        lines = []
-        for r in f.table("stability.csv").rows():
-            key = _key(r["engine"], r["integrator"])
-            if not _finite(r["stable_dt"]):
-                lines.append(("bad", f"{key}: no stable time step found."))
-                continue
-            text = f"{key}: largest stable dt {num(r['stable_dt'])} s"
-            # a search that never failed stopped at --dt-max: the measured limit is a lower bound
-            censored = not _finite(r["first_unstable_dt"])
-            if censored:
-                text += " (no failure up to the largest step tried, so the limit is at least that)"
-            else:
-                text += f" (first failure at {num(r['first_unstable_dt'])} s"
-                text += f", {r['cause']})" if r["cause"] else ")"
-            kind, more = stability_agreement(r["stable_dt"], r["predicted_dt"],
-                                             r["ratio_measured_to_predicted"], censored)
-            lines.append((kind, text + more + "."))
-        groups.append(("Stability limits", lines))
-
+        groups.append(("Stability limits",
+                       [_stability_limit_line(r) for r in f.table("stability.csv").rows()]))
     if f.has("convergence.csv"):
-        lines = []
-        for r in f.table("convergence.csv").rows():
-            key = _key(r["engine"], r["integrator"])
-            if not _finite(r["order"]):
-                lines.append(("bad", f"{key}: no order fitted."))
-                continue
-            pts = f" from {int(r['points'])} points" if _finite(r["points"]) else ""
-            text = f"{key}: measured order {r['order']:.2f}{pts}"
-            expected = f.expected_order(r["integrator"]) if r["engine"] != "" else None
-            kind = "info"
-            if expected is not None:
-                ok = abs(r["order"] - expected) <= 0.3
-                kind = "ok" if ok else "bad"
-                text += f" (expected {expected})"
-            lines.append((kind, text + "."))
-        groups.append(("Convergence", lines))
-
+        groups.append(("Convergence",
+                       [_convergence_line(f, r) for r in f.table("convergence.csv").rows()]))
     if f.has("work_precision.csv") or f.has("recommendation.csv"):
-        lines = []
-        if f.has("work_precision.csv"):
-            wp = f.table("work_precision.csv")
-            unstable = int(np.sum(wp["stable"] < 0.5))
-            lines.append(("info", f"{len(wp)} configurations run, {unstable} of them unstable."))
-        if f.has("recommendation.csv"):
-            rec = f.table("recommendation.csv")
-            for r in sorted(rec.rows(), key=lambda r: r["scope"] != "overall"):
-                scope = "overall" if r["scope"] == "overall" else f"for {r['engine']}"
-                tol = f" within tolerance {num(r['tolerance'])} m" \
-                    if _finite(r["tolerance"]) else ""
-                if not recommendation_found(r):
-                    lines.append(("bad", f"Nothing meets the tolerance {scope}: no stable "
-                                  f"configuration{tol}{best_error(f, r)}."))
-                    continue
-                lines.append(("ok", f"Cheapest{tol} {scope}: {_key(r['engine'], r['integrator'])} "
-                              f"at dt {num(r['dt'])} s (max error {length(r['error_max'])}, "
-                              f"{num(r['wall_s_per_sim_s'])} s of wall time per simulated "
-                              f"second)."))
-            if f.has("work_precision.csv"):
-                scopes = {r["engine"] for r in rec.rows() if r["scope"] != "overall"}
-                for e in f.table("work_precision.csv").unique("engine"):
-                    if e not in scopes:
-                        lines.append(("bad", f"{e}: no stable configuration meets the tolerance."))
-        groups.append(("Accuracy and cost", lines))
-
+        groups.append(("Accuracy and cost", _accuracy_lines(f)))
     if f.has("resolution.csv"):
-        lines = []
-        res = f.table("resolution.csv")
-        for e, i in dict.fromkeys(zip(res["engine"], res["integrator"])):
-            key = _key(e, i)
-            rows = res.where((res["engine"] == e) & (res["integrator"] == i))
-            rows = rows.where(np.argsort(rows["particles"], kind="stable"))
-            ok = (rows["stable"] >= 0.5) & np.isfinite(rows["error_final"])
-            unstable = [_grid(p) for p in rows["particles"][rows["stable"] < 0.5]]
-            parts = [f"{length(float(err))} on {_grid(p)}"
-                     for p, err in zip(rows["particles"][ok], rows["error_final"][ok])]
-            text = f"{key}: final error {', '.join(parts)}" if parts else f"{key}: no stable grid"
-            if unstable:
-                text += f"; unstable on {', '.join(unstable)}"
-            lines.append(("bad" if unstable else "info", text + "."))
-        groups.append(("Grid resolution", lines))
+        groups.append(("Grid resolution", _resolution_lines(f)))
     return groups
 
 

@@ -161,6 +161,86 @@ def distance_norm(pairs, columns):
     return plt.Normalize(0.0, hi if hi > 0 else 1.0)
 
 
+def _cell_axes(fig, shape, k, box):
+    """The k-th (from 1) 3D axes of a rows by columns figure, seen as the player sees the
+    scene, over the view box (lo, hi)."""
+    lo, hi = box
+    ax = fig.add_subplot(*shape, k, projection="3d", computed_zorder=False)
+    ax.view_init(elev=ELEV, azim=AZIM)
+    ax.set_xlim(lo[0], hi[0])
+    ax.set_ylim(lo[2], hi[2])
+    ax.set_zlim(lo[1], hi[1])
+    ax.set_box_aspect((hi[0] - lo[0], hi[2] - lo[2], hi[1] - lo[1]), zoom=0.9)
+    ax.set_xlabel("x (m)", labelpad=-6)
+    ax.set_ylabel("z (m)", labelpad=-6)
+    ax.set_zlabel("y (m)", labelpad=-6)
+    ax.tick_params(labelsize=style.FONT - 3, pad=-3)
+    return ax
+
+
+def _draw_cloth(ax, f, engine, t, box, colour):
+    """Engine's cloth at snapshot time t (s) with the colliders; returns " — blown up" when it
+    had blown up by then, else "".
+
+    colour  (colors, norm, cmap): engine colours and the distance colour scale"""
+    (lo, hi), blow, (colors, norm, cmap) = box, f.blowup(engine), colour
+    for sc, sr in spheres(f, t):
+        draw_sphere(ax, sc, sr, (lo, hi))
+    colliders.draw_3d(ax, f, t, (lo, hi))
+    g = f.snapshot(engine, t)
+    ok = np.all(np.isfinite(g)) and np.all((g >= lo - 1e-9) & (g <= hi + 1e-9))
+    state = ""
+    if blow is not None and (np.isnan(blow) or t >= blow - 1e-12):
+        state = " — blown up"
+    if ok and min(g.shape[:2]) < 2:
+        # a 1 by N grid (a chain) has no surface: its particles joined by a line
+        ax.plot(g[:, :, 0].ravel(), g[:, :, 2].ravel(), g[:, :, 1].ravel(),
+                color=colors[engine], lw=2, marker="o", ms=3.5, mec="black",
+                mew=0.4)
+    elif ok:
+        d = distance_mm(f, engine, t) if not state else None
+        if d is None:
+            ax.plot_surface(g[:, :, 0], g[:, :, 2], g[:, :, 1],
+                            color=colors[engine] if not state else "0.6",
+                            edgecolor="black", linewidth=0.25, alpha=0.9, shade=True)
+        else:
+            # unshaded, so the colour is the colour bar's
+            ax.plot_surface(g[:, :, 0], g[:, :, 2], g[:, :, 1], facecolors=cmap(norm(d)),
+                            edgecolor="black", linewidth=0.15, shade=False)
+    else:
+        ax.text2D(0.5, 0.5, "outside the view\n(non-finite or blown up)", ha="center",
+                  va="center", transform=ax.transAxes, color="tab:red",
+                  fontsize=style.FONT - 1)
+    return state
+
+
+def _draw_row(fig, r, pair, columns, layout, colour):
+    """Row r of the figure: one engine's cloth at each column's time, or why it has none.
+
+    layout  (number of folders, rows, columns, (lo, hi) view box); returns the row's axes"""
+    f, engine = pair
+    nfolders, nrows, ncols, box = layout
+    blow = f.blowup(engine)
+    previous = None
+    axes = []
+    for c, column in enumerate(columns):
+        ax = _cell_axes(fig, (nrows, ncols), r * ncols + c + 1, box)
+        axes.append(ax)
+        name = engine if nfolders == 1 else f"{engine} ({f.label})"
+        t = cell_time(f, engine, column, previous)
+        if t is None:
+            ax.set_axis_off()
+            why = "" if blow is None else f"\n(blew up at t = {style.fmt(blow)} s)"
+            ax.text2D(0.5, 0.5, f"{name}\nno snapshot at t = {style.fmt(column)} s{why}",
+                      ha="center", va="center", transform=ax.transAxes, color="0.35",
+                      fontsize=style.FONT - 1)
+            continue
+        previous = t
+        state = _draw_cloth(ax, f, engine, t, box, colour)
+        ax.set_title(f"{name}\nt = {style.fmt(t)} s{state}", fontsize=style.FONT - 1)
+    return axes
+
+
 def draw(folders, ctx):
     pairs = rows_of(folders)
     columns = column_times(pairs, ctx.snapshot_times)
@@ -174,60 +254,9 @@ def draw(folders, ctx):
     tall = (hi[1] - lo[1]) / max(hi[0] - lo[0], hi[2] - lo[2])
     fig = plt.figure(figsize=(12, 1.3 + 2.8 * min(max(tall, 1.0), 1.6) * nrows),
                      layout="constrained")
-    for r, (f, engine) in enumerate(pairs):
-        blow = f.blowup(engine)
-        previous = None
-        for c, column in enumerate(columns):
-            ax = fig.add_subplot(nrows, ncols, r * ncols + c + 1, projection="3d",
-                                 computed_zorder=False)
-            axes_3d.append(ax)
-            ax.view_init(elev=ELEV, azim=AZIM)
-            ax.set_xlim(lo[0], hi[0])
-            ax.set_ylim(lo[2], hi[2])
-            ax.set_zlim(lo[1], hi[1])
-            ax.set_box_aspect((hi[0] - lo[0], hi[2] - lo[2], hi[1] - lo[1]), zoom=0.9)
-            ax.set_xlabel("x (m)", labelpad=-6)
-            ax.set_ylabel("z (m)", labelpad=-6)
-            ax.set_zlabel("y (m)", labelpad=-6)
-            ax.tick_params(labelsize=style.FONT - 3, pad=-3)
-            name = engine if len(folders) == 1 else f"{engine} ({f.label})"
-            t = cell_time(f, engine, column, previous)
-            if t is None:
-                ax.set_axis_off()
-                why = "" if blow is None else f"\n(blew up at t = {style.fmt(blow)} s)"
-                ax.text2D(0.5, 0.5, f"{name}\nno snapshot at t = {style.fmt(column)} s{why}",
-                          ha="center", va="center", transform=ax.transAxes, color="0.35",
-                          fontsize=style.FONT - 1)
-                continue
-            previous = t
-            for sc, sr in spheres(f, t):
-                draw_sphere(ax, sc, sr, (lo, hi))
-            colliders.draw_3d(ax, f, t, (lo, hi))
-            g = f.snapshot(engine, t)
-            ok = np.all(np.isfinite(g)) and np.all((g >= lo - 1e-9) & (g <= hi + 1e-9))
-            state = ""
-            if blow is not None and (np.isnan(blow) or t >= blow - 1e-12):
-                state = " — blown up"
-            if ok and min(g.shape[:2]) < 2:
-                # a 1 by N grid (a chain) has no surface: its particles joined by a line
-                ax.plot(g[:, :, 0].ravel(), g[:, :, 2].ravel(), g[:, :, 1].ravel(),
-                        color=ctx.colors[engine], lw=2, marker="o", ms=3.5, mec="black",
-                        mew=0.4)
-            elif ok:
-                d = distance_mm(f, engine, t) if not state else None
-                if d is None:
-                    ax.plot_surface(g[:, :, 0], g[:, :, 2], g[:, :, 1],
-                                    color=ctx.colors[engine] if not state else "0.6",
-                                    edgecolor="black", linewidth=0.25, alpha=0.9, shade=True)
-                else:
-                    # unshaded, so the colour is the colour bar's
-                    ax.plot_surface(g[:, :, 0], g[:, :, 2], g[:, :, 1], facecolors=cmap(norm(d)),
-                                    edgecolor="black", linewidth=0.15, shade=False)
-            else:
-                ax.text2D(0.5, 0.5, "outside the view\n(non-finite or blown up)", ha="center",
-                          va="center", transform=ax.transAxes, color="tab:red",
-                          fontsize=style.FONT - 1)
-            ax.set_title(f"{name}\nt = {style.fmt(t)} s{state}", fontsize=style.FONT - 1)
+    for r, pair in enumerate(pairs):
+        axes_3d += _draw_row(fig, r, pair, columns, (len(folders), nrows, ncols, (lo, hi)),
+                             (ctx.colors, norm, cmap))
     if axes_3d:
         bar = fig.colorbar(plt.cm.ScalarMappable(norm=norm, cmap=cmap), ax=axes_3d,
                            shrink=min(0.6, 2.5 / max(1, nrows)), pad=0.02, aspect=30,

@@ -39,45 +39,41 @@ def spacing_label(folder, r):
     return text
 
 
-def draw(folders, ctx):
-    panels = [f for f in folders if f.has("resolution.csv")]
-    fig, (ax_e, ax_c) = plt.subplots(1, 2, figsize=(12, 6.0), sharex=True, layout="constrained")
-    errs = np.concatenate([f.table("resolution.csv")["error_final"] for f in panels])
-    good = errs[np.isfinite(errs) & (errs > 0)]
-    top = good.max() * 6 if len(good) else 1.0
-    sides = []
+def _draw_folder(axes, k, f, npanels, colors, top):
+    """Folder k's error and cost lines, one per engine and integrator (line style k), and its
+    unstable grids as crosses at height top; returns (grid sides, whether any was unstable)."""
+    ax_e, ax_c = axes
+    res = f.table("resolution.csv")
+    r = side(res["particles"])
+    y = res["error_final"]
+    cost = res["wall_s_per_sim_s"]
+    ok = (res["stable"] >= 0.5) & np.isfinite(y) & (y > 0)
+    ls = style.RUN_STYLES[k]
+    mfc = None if k == 0 else "white"
     any_unstable = False
-    for k, f in enumerate(panels):
-        res = f.table("resolution.csv")
-        r = side(res["particles"])
-        sides += [float(v) for v in r if np.isfinite(v) and float(v) not in sides]
-        y = res["error_final"]
-        cost = res["wall_s_per_sim_s"]
-        ok = (res["stable"] >= 0.5) & np.isfinite(y) & (y > 0)
-        ls = style.RUN_STYLES[k]
-        mfc = None if k == 0 else "white"
-        for e, i in style.configs(res):
-            key = style.config_key(e, i)
-            color = ctx.colors[key]
-            label = key if len(panels) == 1 else f"{key} ({f.label})"
-            m = (res["engine"] == e) & (res["integrator"] == i)
-            s = np.flatnonzero(m & ok)
-            s = s[np.argsort(r[s])]
-            ax_e.plot(r[s], y[s], marker=style.RUN_MARKERS[k], ms=6, lw=1.5, ls=ls, color=color,
-                      mfc=mfc, label=label)
-            u = np.flatnonzero(m & ~ok)
-            if len(u):
-                any_unstable = True
-                ax_e.plot(r[u], np.full(len(u), top), marker="x", ms=8, mew=2, ls="none",
-                          color=color)
-            c = np.flatnonzero(m & (res["stable"] >= 0.5) & np.isfinite(cost) & (cost > 0))
-            c = c[np.argsort(r[c])]
-            ax_c.plot(r[c], cost[c], marker=style.RUN_MARKERS[k], ms=6, lw=1.5, ls=ls,
-                      color=color, mfc=mfc, label=label)
-    if any_unstable:
-        ax_e.axhline(top, color="0.5", ls=":", lw=1)
-        ax_e.plot([], [], marker="x", ms=8, mew=2, ls="none", color="0.3",
-                  label="unstable (no error)")
+    for e, i in style.configs(res):
+        key = style.config_key(e, i)
+        color = colors[key]
+        label = key if npanels == 1 else f"{key} ({f.label})"
+        m = (res["engine"] == e) & (res["integrator"] == i)
+        s = np.flatnonzero(m & ok)
+        s = s[np.argsort(r[s])]
+        ax_e.plot(r[s], y[s], marker=style.RUN_MARKERS[k], ms=6, lw=1.5, ls=ls, color=color,
+                  mfc=mfc, label=label)
+        u = np.flatnonzero(m & ~ok)
+        if len(u):
+            any_unstable = True
+            ax_e.plot(r[u], np.full(len(u), top), marker="x", ms=8, mew=2, ls="none",
+                      color=color)
+        c = np.flatnonzero(m & (res["stable"] >= 0.5) & np.isfinite(cost) & (cost > 0))
+        c = c[np.argsort(r[c])]
+        ax_c.plot(r[c], cost[c], marker=style.RUN_MARKERS[k], ms=6, lw=1.5, ls=ls,
+                  color=color, mfc=mfc, label=label)
+    return r, any_unstable
+
+
+def _finish_axes(ax_e, ax_c, panels, sides):
+    """Log scales, the grid sizes as ticks, labels, titles and the one legend."""
     for ax in (ax_e, ax_c):
         ax.set_xscale("log")
         ax.set_yscale("log")
@@ -97,7 +93,25 @@ def draw(folders, ctx):
     handles, labels = ax_e.get_legend_handles_labels()
     ax_c.legend(handles, labels, loc="upper left", bbox_to_anchor=(1.01, 1.0),
                 fontsize=style.FONT - 1)
+
+
+def draw(folders, ctx):
+    panels = [f for f in folders if f.has("resolution.csv")]
+    fig, (ax_e, ax_c) = plt.subplots(1, 2, figsize=(12, 6.0), sharex=True, layout="constrained")
+    errs = np.concatenate([f.table("resolution.csv")["error_final"] for f in panels])
+    good = errs[np.isfinite(errs) & (errs > 0)]
+    top = good.max() * 6 if len(good) else 1.0
+    sides = []
+    any_unstable = False
+    for k, f in enumerate(panels):
+        r, unstable = _draw_folder((ax_e, ax_c), k, f, len(panels), ctx.colors, top)
+        sides += [float(v) for v in r if np.isfinite(v) and float(v) not in sides]
+        any_unstable = any_unstable or unstable
+    if any_unstable:
+        ax_e.axhline(top, color="0.5", ls=":", lw=1)
+        ax_e.plot([], [], marker="x", ms=8, mew=2, ls="none", color="0.3",
+                  label="unstable (no error)")
+    _finish_axes(ax_e, ax_c, panels, sides)
     style.title(fig, TITLE, panels, engines_line=style.sweep_line(panels, ("resolution.csv",)),
                 compare="lines")
     return style.save(fig, ctx.outdir, STEM, ctx.svg)
-

@@ -119,12 +119,9 @@ def available(folder):
     return folder.has("snapshots.csv")
 
 
-def draw(folders, ctx):
-    panels = [f for f in folders if f.has("snapshots.csv")]
-    shapes = [final_shapes(f) for f in panels]
-    ab = axes_of(panels[0])
-    names = "xyz"
-    # one window for every panel: the flat cloth and every finite final cloth
+def _window(panels, shapes, ab):
+    """(lo, hi, cell, gx, gy): one window for every panel, holding the flat cloth and every
+    finite final cloth, and the shadow raster's cell size (m) and cell centres along a and b."""
     pts = []
     for f, sh in zip(panels, shapes):
         for e in f.table("snapshots.csv").unique("engine"):
@@ -142,7 +139,11 @@ def draw(folders, ctx):
     cell = max(hi - lo) / RASTER
     gx = np.arange(lo[0], hi[0] + cell, cell)
     gy = np.arange(lo[1], hi[1] + cell, cell)
+    return lo, hi, cell, gx, gy
 
+
+def _figure(panels, lo, hi):
+    """The figure: a row of panels sharing their axes, a row of blank axes for the legends."""
     # room for the title, the square-ish panels and a legend line per engine below them
     entries = max(len(f.table("snapshots.csv").unique("engine")) for f in panels) + 2
     aspect = (hi[1] - lo[1]) / (hi[0] - lo[0])
@@ -157,51 +158,72 @@ def draw(folders, ctx):
     for ax in axes[0][1:]:
         ax.sharex(axes[0][0])
         ax.sharey(axes[0][0])
+    return fig, axes
+
+
+def _draw_supports(ax, f, engines, ab):
+    """The flat cloth's outline, the supporting spheres and held disks, and the other colliders;
+    returns their legend entries [(handle, text)]."""
+    handles = []
+    # the flat cloth at the first snapshot of the first engine, for scale
+    g0 = f.snapshot(engines[0], f.snapshot_times(engines[0])[0])
+    if np.all(np.isfinite(g0)):
+        outline = np.concatenate([g0[:, 0], g0[-1, :], g0[::-1, -1], g0[0, ::-1]])[:, ab]
+        ax.plot(outline[:, 0], outline[:, 1], color="0.45", ls=":", lw=1.2)
+        handles.append((plt.Line2D([], [], color="0.45", ls=":"),
+                        f"cloth at t = {style.fmt(f.snapshot_times(engines[0])[0])} s"))
+    for c, r in spheres(f, 0.0):
+        circle = plt.Circle((c[ab[0]], c[ab[1]]), r, fill=False, color="black", ls="--", lw=1.2)
+        ax.add_patch(circle)
+        handles.append((plt.Line2D([], [], color="black", ls="--"),
+                        f"support: sphere r = {style.fmt(r)} m"))
+    for (x, y), r in disks(f):
+        ax.add_patch(plt.Circle((x, y), r, fill=False, color="black", ls="-.", lw=1.2))
+        handles.append((plt.Line2D([], [], color="black", ls="-."),
+                        f"support: held disk r = {style.fmt(r)} m"))
+    return handles + colliders.draw_top(ax, f, ab)
+
+
+def _draw_shadow(ax, f, e, sh, color, ab, raster):
+    """Engine e's final shadow (filled and outlined, or the cloth as dots when it has no area);
+    returns its legend entry (handle, text)."""
+    gx, gy, cell = raster
+    info = f.engine_info(e)
+    dc = info.get("drape_coefficient", math.nan) if info else math.nan
+    dc_text = f"drape coefficient {dc:.3f}" if isinstance(dc, float) and np.isfinite(dc) \
+        else "no drape coefficient"
+    if e not in sh:
+        blow = f.blowup(e)
+        why = f"blew up at t = {style.fmt(blow)} s" if blow is not None else "non-finite"
+        return (plt.Line2D([], [], color=color, lw=0), f"{e}: not drawn ({why})")
+    t, g = sh[e]
+    mask = shadow_mask(g, ab, gx, gy).astype(float)
+    if np.any(mask):
+        ax.contourf(gx, gy, mask.T, levels=[0.5, 1.5], colors=[color], alpha=0.22)
+        ax.contour(gx, gy, mask.T, levels=[0.5], colors=[color], linewidths=1.8)
+        area = f"{mask.sum() * cell * cell:.3g} m²"
+    else:
+        # edge-on or a chain: the projected cloth itself, as a line
+        ax.plot(g[:, :, ab[0]].ravel(), g[:, :, ab[1]].ravel(), color=color, lw=0,
+                marker=".", ms=3)
+        area = "0 m² (" + ("a chain: no area" if min(g.shape[:2]) < 2
+                           else "edge-on from above") + ")"
+    return (plt.Line2D([], [], color=color, lw=6, alpha=0.5),
+            f"{e} (t = {style.fmt(t)} s): shadow {area}, {dc_text}")
+
+
+def draw(folders, ctx):
+    panels = [f for f in folders if f.has("snapshots.csv")]
+    shapes = [final_shapes(f) for f in panels]
+    ab = axes_of(panels[0])
+    names = "xyz"
+    lo, hi, cell, gx, gy = _window(panels, shapes, ab)
+    fig, axes = _figure(panels, lo, hi)
     for ax, leg_ax, f, sh in zip(axes[0], axes[1], panels, shapes):
-        handles = []
         engines = f.table("snapshots.csv").unique("engine")
-        # the flat cloth at the first snapshot of the first engine, for scale
-        g0 = f.snapshot(engines[0], f.snapshot_times(engines[0])[0])
-        if np.all(np.isfinite(g0)):
-            outline = np.concatenate([g0[:, 0], g0[-1, :], g0[::-1, -1], g0[0, ::-1]])[:, ab]
-            ax.plot(outline[:, 0], outline[:, 1], color="0.45", ls=":", lw=1.2)
-            handles.append((plt.Line2D([], [], color="0.45", ls=":"),
-                            f"cloth at t = {style.fmt(f.snapshot_times(engines[0])[0])} s"))
-        for c, r in spheres(f, 0.0):
-            circle = plt.Circle((c[ab[0]], c[ab[1]]), r, fill=False, color="black", ls="--", lw=1.2)
-            ax.add_patch(circle)
-            handles.append((plt.Line2D([], [], color="black", ls="--"),
-                            f"support: sphere r = {style.fmt(r)} m"))
-        for (x, y), r in disks(f):
-            ax.add_patch(plt.Circle((x, y), r, fill=False, color="black", ls="-.", lw=1.2))
-            handles.append((plt.Line2D([], [], color="black", ls="-."),
-                            f"support: held disk r = {style.fmt(r)} m"))
-        handles += colliders.draw_top(ax, f, ab)
-        for e in engines:
-            color = ctx.colors[e]
-            info = f.engine_info(e)
-            dc = info.get("drape_coefficient", math.nan) if info else math.nan
-            dc_text = f"drape coefficient {dc:.3f}" if isinstance(dc, float) and np.isfinite(dc) \
-                else "no drape coefficient"
-            if e not in sh:
-                blow = f.blowup(e)
-                why = f"blew up at t = {style.fmt(blow)} s" if blow is not None else "non-finite"
-                handles.append((plt.Line2D([], [], color=color, lw=0), f"{e}: not drawn ({why})"))
-                continue
-            t, g = sh[e]
-            mask = shadow_mask(g, ab, gx, gy).astype(float)
-            if np.any(mask):
-                ax.contourf(gx, gy, mask.T, levels=[0.5, 1.5], colors=[color], alpha=0.22)
-                ax.contour(gx, gy, mask.T, levels=[0.5], colors=[color], linewidths=1.8)
-                area = f"{mask.sum() * cell * cell:.3g} m²"
-            else:
-                # edge-on or a chain: the projected cloth itself, as a line
-                ax.plot(g[:, :, ab[0]].ravel(), g[:, :, ab[1]].ravel(), color=color, lw=0,
-                        marker=".", ms=3)
-                area = "0 m² (" + ("a chain: no area" if min(g.shape[:2]) < 2
-                                   else "edge-on from above") + ")"
-            handles.append((plt.Line2D([], [], color=color, lw=6, alpha=0.5),
-                            f"{e} (t = {style.fmt(t)} s): shadow {area}, {dc_text}"))
+        handles = _draw_supports(ax, f, engines, ab)
+        handles += [_draw_shadow(ax, f, e, sh, ctx.colors[e], ab, (gx, gy, cell))
+                    for e in engines]
         ax.set_aspect("equal")
         ax.set_xlim(lo[0], hi[0])
         ax.set_ylim(lo[1], hi[1])

@@ -10,7 +10,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from ..verdicts import num as fmt  # noqa: E402,F401  (3 significant digits, short exponents)
+from ..quantities import num as fmt  # noqa: E402,F401  (3 significant digits, short exponents)
 
 DPI = 110                 # PNG resolution: a 12 in wide figure is 1320 px, the page's width
 FONT = 10                 # pt, base font size

@@ -340,24 +340,17 @@ def scenario_toml(name, damping):
     return "\n".join(lines) + "\n"
 
 
-def make_run(folder, damping):
-    os.makedirs(folder, exist_ok=True)
-    cloth = Cloth(damping)
-    results = {}
-    for name, kind, integrator, dt in ENGINES:
-        frames, snaps, blowup = simulate(cloth, integrator or "implicit-euler", dt)
-        results[name] = (frames, snaps, blowup)
-        print(f"  {name}: {len(frames)} frames, blow-up at {blowup}", file=sys.stderr)
-    ref = ENGINES[0][0]
-
-    # frames.csv
+def _write_frames(folder, results):
     rows = []
     for name, *_ in ENGINES:
         for fr in results[name][0]:
             rows.append([name] + [fr[c] for c in FRAME_COLS[1:]])
     write_csv(os.path.join(folder, "frames.csv"), FRAME_COLS, rows)
 
-    # divergence.csv: matched by frame index (the blow-up row against the next reference frame)
+
+def _write_divergence(folder, results, ref):
+    """divergence.csv: matched by frame index (the blow-up row against the next reference
+    frame)."""
     ref_frames = results[ref][0]
     rows = []
     for name, *_ in ENGINES[1:]:
@@ -374,7 +367,8 @@ def make_run(folder, damping):
               ["engine", "reference", "t", "rms_distance", "max_distance", "com_distance",
                "energy_difference", "shadow_area_difference"], rows)
 
-    # snapshots.csv
+
+def _write_snapshots(folder, results, cloth):
     rows = []
     for name, *_ in ENGINES:
         for t, x in results[name][1].items():
@@ -383,7 +377,10 @@ def make_run(folder, damping):
                 rows.append([name, t, i, j, x[p, 0], x[p, 1], x[p, 2]])
     write_csv(os.path.join(folder, "snapshots.csv"), ["engine", "t", "i", "j", "x", "y", "z"], rows)
 
-    # summary.csv: wall time is modelled (fixture), force evaluations are exact
+
+def _write_summary(folder, results, ref):
+    """summary.csv: wall time is modelled (fixture), force evaluations are exact; the
+    distances come from the divergence.csv already written."""
     evals = {"rk4": 4, "symplectic-euler": 1, "explicit-euler": 1, "": 1}
     cloth_area = SIZE * SIZE
     support = math.pi * SPHERE_R ** 2
@@ -410,13 +407,31 @@ def make_run(folder, damping):
                "max_rms_vs_reference", "drape_coefficient", "final_kinetic", "static_residual"],
               rows)
 
-    with open(os.path.join(folder, "scenario.toml"), "w", encoding="utf-8") as f:
-        f.write(scenario_toml("seed_sphere_drape_7x7", damping))
+
+def _write_run_json(folder, **more):
     with open(os.path.join(folder, "run.json"), "w", encoding="utf-8") as f:
         json.dump({"tool": "clothbench", "version": "0.1.0", "git_commit": "0000000 (fixture)",
                    "compiler": "synthetic (analysis/tests/make_fixtures.py)",
-                   "date": "2025-01-01T00:00:00Z", **FACTS}, f, indent=2)
+                   "date": "2025-01-01T00:00:00Z", **more, **FACTS}, f, indent=2)
         f.write("\n")
+
+
+def make_run(folder, damping):
+    os.makedirs(folder, exist_ok=True)
+    cloth = Cloth(damping)
+    results = {}
+    for name, kind, integrator, dt in ENGINES:
+        frames, snaps, blowup = simulate(cloth, integrator or "implicit-euler", dt)
+        results[name] = (frames, snaps, blowup)
+        print(f"  {name}: {len(frames)} frames, blow-up at {blowup}", file=sys.stderr)
+    ref = ENGINES[0][0]
+    _write_frames(folder, results)
+    _write_divergence(folder, results, ref)
+    _write_snapshots(folder, results, cloth)
+    _write_summary(folder, results, ref)
+    with open(os.path.join(folder, "scenario.toml"), "w", encoding="utf-8") as f:
+        f.write(scenario_toml("seed_sphere_drape_7x7", damping))
+    _write_run_json(folder)
 
 
 def _rows_for(folder, engine):
@@ -431,66 +446,60 @@ def _rows_for(folder, engine):
     return out
 
 
-def make_sweep(folder):
-    """Sweep CSVs from a model of the seed scene: error C dt^p, cost evals / dt, known limits."""
-    os.makedirs(folder, exist_ok=True)
-    rng = np.random.default_rng(5)
-    lam = 6000.0  # 1/s, the fastest (damping-dominated) mode of the fixture's cloth
-    # engine, integrator, order, error constant, evals/step, us per eval, stability radius
-    methods = [
-        ("custom", "explicit-euler", 1, 2.0, 1, 2.4, 2.0),
-        ("custom", "symplectic-euler", 1, 1.2, 1, 2.5, 2.0),
-        ("custom", "picard-implicit", 1, 1.0, 2, 2.4, 1.0),
-        ("custom", "midpoint", 2, 60.0, 2, 2.4, 2.0),
-        ("custom", "rk4", 4, 4e6, 4, 2.4, 2.785),
-        ("custom", "implicit-euler", 1, 3.0, 1, 30.0, None),
-        ("bullet-softbody", "", 1, 6.0, 1, 5.0, None),
-    ]
-    dts = [1.6e-3, 8e-4, 4e-4, 2e-4, 1e-4, 5e-5, 2.5e-5]
-    wp, conv, stab = [], [], []
-    for engine, integ, order, const, evals, us, radius in methods:
-        limit = radius / lam if radius else (1.2e-3 if engine.startswith("bullet") else None)
-        measured = limit * (0.93 + 0.05 * rng.random()) if limit else None
-        pts = []
-        for dt in dts:
-            stable = measured is None or dt <= measured
-            wall_per_sim = evals * us * 1e-6 / dt * (1.0 + 0.05 * rng.random())
-            if stable:
-                err = const * dt ** order * (1.0 + 0.08 * rng.standard_normal())
-                pts.append((dt, err))
-                row_err = (err, err * (1.4 + 0.2 * rng.random()))
-            else:
-                row_err = ("", "")
-            cg = int(12 + 4 * math.log2(dt / 2.5e-5)) if integ == "implicit-euler" else 0
-            steps = int(round(1.0 / dt))
-            wp.append([engine, integ, dt, int(stable), *row_err, wall_per_sim * 1.0, wall_per_sim,
-                       steps * evals, cg * steps])
-        if len(pts) >= 2:
-            lx = np.log([p[0] for p in pts])
-            ly = np.log([p[1] for p in pts])
-            conv.append([engine, integ, float(np.polyfit(lx, ly, 1)[0]), len(pts)])
-        if engine == "custom" and integ == "implicit-euler":
-            stab.append([engine, integ, 1.6e-3, "", "", "", ""])
-        else:
-            first = measured * 1.02
-            predicted = limit if engine == "custom" else ""
-            ratio = measured / predicted if predicted != "" else ""
-            cause = "strain" if integ in ("explicit-euler", "midpoint") else "non-finite"
-            if predicted != "":
-                cause += " (mode 1/s 6000, damping)"
-            stab.append([engine, integ, measured, first, predicted, ratio, cause])
-    write_csv(os.path.join(folder, "work_precision.csv"),
-              ["engine", "integrator", "dt", "stable", "error_final", "error_max", "wall_s",
-               "wall_s_per_sim_s", "force_evals", "cg_iterations"], wp)
-    write_csv(os.path.join(folder, "convergence.csv"),
-              ["engine", "integrator", "order", "points"], conv)
-    write_csv(os.path.join(folder, "stability.csv"),
-              ["engine", "integrator", "stable_dt", "first_unstable_dt", "predicted_dt",
-               "ratio_measured_to_predicted", "cause"], stab)
+# engine, integrator, order, error constant, evals/step, us per eval, stability radius
+SWEEP_METHODS = [
+    ("custom", "explicit-euler", 1, 2.0, 1, 2.4, 2.0),
+    ("custom", "symplectic-euler", 1, 1.2, 1, 2.5, 2.0),
+    ("custom", "picard-implicit", 1, 1.0, 2, 2.4, 1.0),
+    ("custom", "midpoint", 2, 60.0, 2, 2.4, 2.0),
+    ("custom", "rk4", 4, 4e6, 4, 2.4, 2.785),
+    ("custom", "implicit-euler", 1, 3.0, 1, 30.0, None),
+    ("bullet-softbody", "", 1, 6.0, 1, 5.0, None),
+]
+SWEEP_DTS = [1.6e-3, 8e-4, 4e-4, 2e-4, 1e-4, 5e-5, 2.5e-5]
+SWEEP_LAMBDA = 6000.0  # 1/s, the fastest (damping-dominated) mode of the fixture's cloth
 
-    # recommendation: cheapest stable row meeting the tolerance, per engine and overall
+
+def _sweep_method(method, rng, wp, conv, stab):
+    """One engine and integrator's work-precision rows, fitted order and stability limit,
+    appended to wp, conv and stab."""
+    engine, integ, order, const, evals, us, radius = method
+    limit = radius / SWEEP_LAMBDA if radius else (1.2e-3 if engine.startswith("bullet") else None)
+    measured = limit * (0.93 + 0.05 * rng.random()) if limit else None
+    pts = []
+    for dt in SWEEP_DTS:
+        stable = measured is None or dt <= measured
+        wall_per_sim = evals * us * 1e-6 / dt * (1.0 + 0.05 * rng.random())
+        if stable:
+            err = const * dt ** order * (1.0 + 0.08 * rng.standard_normal())
+            pts.append((dt, err))
+            row_err = (err, err * (1.4 + 0.2 * rng.random()))
+        else:
+            row_err = ("", "")
+        cg = int(12 + 4 * math.log2(dt / 2.5e-5)) if integ == "implicit-euler" else 0
+        steps = int(round(1.0 / dt))
+        wp.append([engine, integ, dt, int(stable), *row_err, wall_per_sim * 1.0, wall_per_sim,
+                   steps * evals, cg * steps])
+    if len(pts) >= 2:
+        lx = np.log([p[0] for p in pts])
+        ly = np.log([p[1] for p in pts])
+        conv.append([engine, integ, float(np.polyfit(lx, ly, 1)[0]), len(pts)])
+    if engine == "custom" and integ == "implicit-euler":
+        stab.append([engine, integ, 1.6e-3, "", "", "", ""])
+    else:
+        first = measured * 1.02
+        predicted = limit if engine == "custom" else ""
+        ratio = measured / predicted if predicted != "" else ""
+        cause = "strain" if integ in ("explicit-euler", "midpoint") else "non-finite"
+        if predicted != "":
+            cause += " (mode 1/s 6000, damping)"
+        stab.append([engine, integ, measured, first, predicted, ratio, cause])
+
+
+def _write_recommendation(folder, wp):
+    """recommendation.csv: the cheapest stable row meeting the tolerance, per engine and
+    overall (judged on the largest error over the run, as clothbench accuracy does)."""
     tol = 1e-4
-    # (judged on the largest error over the run, as clothbench accuracy does)
     ok = [r for r in wp if r[3] == 1 and r[5] != "" and r[5] <= tol]
     rec = []
     for engine in sorted({r[0] for r in ok}) + ["overall"]:
@@ -501,12 +510,25 @@ def make_sweep(folder):
     write_csv(os.path.join(folder, "recommendation.csv"),
               ["scope", "engine", "integrator", "dt", "error_max", "wall_s_per_sim_s",
                "tolerance"], rec)
-    with open(os.path.join(folder, "run.json"), "w", encoding="utf-8") as f:
-        json.dump({"tool": "clothbench", "version": "0.1.0", "git_commit": "0000000 (fixture)",
-                   "compiler": "synthetic (analysis/tests/make_fixtures.py)",
-                   "date": "2025-01-01T00:00:00Z", "command": "accuracy + stability (modelled)",
-                   **FACTS}, f, indent=2)
-        f.write("\n")
+
+
+def make_sweep(folder):
+    """Sweep CSVs from a model of the seed scene: error C dt^p, cost evals / dt, known limits."""
+    os.makedirs(folder, exist_ok=True)
+    rng = np.random.default_rng(5)
+    wp, conv, stab = [], [], []
+    for method in SWEEP_METHODS:
+        _sweep_method(method, rng, wp, conv, stab)
+    write_csv(os.path.join(folder, "work_precision.csv"),
+              ["engine", "integrator", "dt", "stable", "error_final", "error_max", "wall_s",
+               "wall_s_per_sim_s", "force_evals", "cg_iterations"], wp)
+    write_csv(os.path.join(folder, "convergence.csv"),
+              ["engine", "integrator", "order", "points"], conv)
+    write_csv(os.path.join(folder, "stability.csv"),
+              ["engine", "integrator", "stable_dt", "first_unstable_dt", "predicted_dt",
+               "ratio_measured_to_predicted", "cause"], stab)
+    _write_recommendation(folder, wp)
+    _write_run_json(folder, command="accuracy + stability (modelled)")
 
 
 def main():

@@ -9,7 +9,7 @@ import unittest
 import numpy as np
 
 from analysis.csvio import SCHEMAS, ReportError, read_table
-from analysis.verdicts import length, num
+from analysis.quantities import length, num
 
 
 class ReadTable(unittest.TestCase):
