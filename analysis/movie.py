@@ -104,8 +104,9 @@ def _draw_panel(ax, panel, t, box, colors):
     ax.set_title(name + state, fontsize=8, color="tab:red" if gone else "black")
 
 
-def write(folders, outdir, colors):
-    """Writes outdir/movie.mp4 and returns its path."""
+def check(folders):
+    """Raises ReportError when no movie can be made of folders (no ffmpeg, no trajectories);
+    returns the folders that have trajectories."""
     why = ffmpeg_missing()
     if why:
         raise ReportError(why)
@@ -113,7 +114,12 @@ def write(folders, outdir, colors):
     if not runs:
         raise ReportError(f"--movie: {folders[0].path} has no trajectory/ (a run folder written "
                           "with animation_interval > 0)")
-    panels = _panels(runs)
+    return runs
+
+
+def write(folders, outdir, colors):
+    """Writes outdir/movie.mp4 and returns its path."""
+    panels = _panels(check(folders))
     box = _box(panels)
     fig, axes = _figure(panels, *box)
     interval = min(tr.interval for _, _, tr, _ in panels)

@@ -2,7 +2,7 @@
 """Turn a clothbench output folder into plots and one self-contained report.html.
 
 usage: report.py DIR [--compare DIR2] [--labels A,B] [--out OUTDIR] [--svg]
-                 [--snapshot-times T1,T2,...] [--tolerance E] [--movie] [--debug]
+                 [--snapshot-times T1,T2,...] [--tolerance E] [--movie] [--force] [--debug]
 
 DIR is the output folder of `clothbench run` and/or a sweep (`clothbench stability`,
 `clothbench accuracy`); the report draws every plot the folder has data for. With --compare the
@@ -15,7 +15,9 @@ CLOTHBENCH_REPORT_DEBUG=1 prints the traceback).
 """
 
 import argparse
+import math
 import os
+import signal
 import sys
 
 if __name__ == "__main__" and not __package__:
@@ -30,6 +32,18 @@ from analysis.folder import Folder  # noqa: E402
 
 PROG = "report"
 DEBUG_ENV = "CLOTHBENCH_REPORT_DEBUG"
+
+
+def _positive_number(text):
+    """A finite number > 0, refused as `clothbench accuracy --tolerance` refuses it."""
+    try:
+        value = float(text)
+    except ValueError:
+        value = float("nan")
+    if not (math.isfinite(value) and value > 0):
+        # a ReportError, not argparse's own: one line, as for every other bad input
+        raise ReportError(f'--tolerance: expected a finite number > 0, got "{text}"')
+    return value
 
 
 def parse_args(argv):
@@ -48,7 +62,9 @@ def parse_args(argv):
     p.add_argument("--snapshot-times", metavar="LIST",
                    help="snapshot times (s) for the drape plot, comma separated (default: up to 4 "
                         "spread from the first to the last)")
-    p.add_argument("--tolerance", metavar="E", type=float,
+    p.add_argument("--force", action="store_true",
+                   help="with --compare: compare folders of different scenarios all the same")
+    p.add_argument("--tolerance", metavar="E", type=_positive_number,
                    help="error tolerance (m) drawn on the work-precision plot (default: from "
                         "recommendation.csv)")
     p.add_argument("--movie", action="store_true",
@@ -105,6 +121,19 @@ def notes_for(folders):
         if not f.scenario_text and present & set(run_files):
             notes.append(f"{prefix}no scenario.toml: titles use the folder name.")
     return notes
+
+
+def _refuse_different_scenarios(folders, force):
+    """--compare of two scenes that are not the same scenario compares nothing (a 5 x 5 cloth
+    against a chain): refused, or with --force a loud warning on stderr."""
+    if len(folders) != 2 or folders[0].name == folders[1].name:
+        return
+    what = (f"--compare: {folders[0].path} is the scenario '{folders[0].name}' and "
+            f"{folders[1].path} is '{folders[1].name}'")
+    if not force:
+        raise ReportError(f"{what}; a comparison of different scenes means little "
+                          "(--force compares them all the same)")
+    print(f"{PROG}: warning: {what}; compared because of --force", file=sys.stderr)
 
 
 def _output_folder(args):
@@ -166,10 +195,10 @@ def run(argv):
     snapshot_times = parse_times(args.snapshot_times)
     outdir = _output_folder(args)
 
+    _refuse_different_scenarios(folders, args.force)
     if args.movie:
         from analysis import movie
-        if movie.ffmpeg_missing():
-            raise ReportError(movie.ffmpeg_missing())
+        movie.check(folders)  # bad input writes nothing: refused before any plot
 
     # plotting starts only once every input has been read and checked
     from analysis import page, player, verdicts
@@ -185,9 +214,13 @@ def run(argv):
 
     target = os.path.join(outdir, "report.html")
     tmp = target + ".tmp"
-    with open(tmp, "w", encoding="utf-8") as fh:
-        fh.write(text)
-    os.replace(tmp, target)
+    try:
+        with open(tmp, "w", encoding="utf-8") as fh:
+            fh.write(text)
+        os.replace(tmp, target)
+    finally:
+        if os.path.exists(tmp):
+            os.remove(tmp)  # interrupted: no half-written page is left
     if args.movie:
         from analysis import movie
         print(f"wrote {movie.write(folders, outdir, ctx.colors)}")
@@ -198,15 +231,21 @@ def run(argv):
     return 0
 
 
+def _interrupt(signum, frame):
+    """SIGTERM as Ctrl-C: the same clean-up, then exit 143 (130 for Ctrl-C)."""
+    raise KeyboardInterrupt(signum)
+
+
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
+    signal.signal(signal.SIGTERM, _interrupt)
     try:
         return run(argv)
     except ReportError as e:
         print(f"{PROG}: error: {e}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        return 130
+    except KeyboardInterrupt as e:
+        return 143 if e.args == (signal.SIGTERM,) else 130
     except Exception as e:  # a bug here, not the user's input: one line, the traceback on demand
         if "--debug" in argv or os.environ.get(DEBUG_ENV, "") not in ("", "0"):
             raise

@@ -56,6 +56,28 @@ class BadInput(unittest.TestCase):
         self.assertFalse(os.path.exists(os.path.join(self.out, "report.html")))
         return result.stderr
 
+    def test_tolerance_must_be_a_finite_positive_number(self):
+        for bad in ("nan", "inf", "-1", "0", "fast"):
+            with self.subTest(tolerance=bad):
+                self.assert_fails(self.sweep, f'--tolerance: expected a finite number > 0, got "{bad}"',
+                                  args=("--tolerance", bad))
+
+    def test_movie_of_a_folder_without_trajectories_writes_nothing(self):
+        # refused before any plot or page is written (ffmpeg or its absence alike)
+        self.assert_fails(self.sweep, "ffmpeg" if shutil.which("ffmpeg") is None
+                          else "has no trajectory/", args=("--movie",))
+        self.assertFalse(os.path.exists(self.out) and os.listdir(self.out), os.listdir(self.out)
+                         if os.path.exists(self.out) else "")
+
+    def test_compare_of_different_scenarios(self):
+        chain = os.path.join(self.tmp, "chain")
+        shutil.copytree(os.path.join(rc.FIXTURES, "chain"), chain)
+        self.assert_fails(self.run, "--compare:", "'seed_sphere_drape_7x7'", "'hanging_chain'",
+                          "--force", args=("--compare", chain))
+        forced = rc.run_report(self.run, "--out", self.out, "--compare", chain, "--force")
+        self.assertEqual(forced.returncode, 0, forced.stderr)
+        self.assertIn("report: warning: --compare:", forced.stderr)
+
     def test_missing_folder(self):
         self.assert_fails(os.path.join(self.tmp, "nowhere"), "nowhere", "no such folder")
 
