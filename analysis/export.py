@@ -16,6 +16,8 @@ OUTDIR defaults to DIR/export. Exit codes: 0 written; 2 bad input (one line on s
 
 import argparse
 import os
+import shutil
+import signal
 import sys
 
 if __name__ == "__main__" and not __package__:
@@ -47,10 +49,13 @@ def write_atomic(path, text):
     os.replace(tmp, path)
 
 
-def obj_text(x, faces, t, engine):
+def obj_text(x, faces, t, engine, segments=()):
+    """One frame as OBJ: vertices, triangles, and for a chain (no triangles) its segments as
+    lines, so that Blender and ParaView show it."""
     lines = [f"# clothbench {engine} t = {t:.6g} s", f"o {engine}"]
     lines += [f"v {p[0]:.7g} {p[1]:.7g} {p[2]:.7g}" for p in x]
     lines += [f"f {a + 1} {b + 1} {c + 1}" for a, b, c in faces]
+    lines += [f"l {a + 1} {b + 1}" for a, b in segments]
     return "\n".join(lines) + "\n"
 
 
@@ -60,21 +65,29 @@ def _array(name, values, fmt, components=1, kind="Float32"):
     return f'<DataArray type="{kind}" Name="{name}"{comps} format="ascii">{body}</DataArray>'
 
 
-def vtp_text(x, faces, strain, distance):
+def _cells(tag, cells, per_cell):
+    """A VTK cell block (Polys or Lines): connectivity and offsets; nothing when empty."""
+    if len(cells) == 0:
+        return []
+    offsets = per_cell * np.arange(1, len(cells) + 1)
+    return [f"<{tag}>", _array("connectivity", cells, "%d", kind="Int32"),
+            _array("offsets", offsets, "%d", kind="Int32"), f"</{tag}>"]
+
+
+def vtp_text(x, faces, strain, distance, segments=()):
+    """One frame as VTK polydata: triangles, or a chain's segments as lines."""
     point_data = [_array("strain", strain, "%.7g")]
     if distance is not None:
         point_data.append(_array("distance_to_reference", distance, "%.7g"))
-    offsets = 3 * np.arange(1, len(faces) + 1)
     return "\n".join([
         '<?xml version="1.0"?>',
         '<VTKFile type="PolyData" version="0.1" byte_order="LittleEndian">',
         "<PolyData>",
-        f'<Piece NumberOfPoints="{len(x)}" NumberOfVerts="0" NumberOfLines="0" '
+        f'<Piece NumberOfPoints="{len(x)}" NumberOfVerts="0" NumberOfLines="{len(segments)}" '
         f'NumberOfStrips="0" NumberOfPolys="{len(faces)}">',
         '<PointData Scalars="strain">', *point_data, "</PointData>",
         "<Points>", _array("Points", x, "%.7g", 3), "</Points>",
-        "<Polys>", _array("connectivity", faces, "%d", kind="Int32"),
-        _array("offsets", offsets, "%d", kind="Int32"), "</Polys>",
+        *_cells("Lines", segments, 2), *_cells("Polys", faces, 3),
         "</Piece>", "</PolyData>", "</VTKFile>", ""])
 
 
@@ -83,6 +96,46 @@ def pvd_text(entries):
     return "\n".join(['<?xml version="1.0"?>',
                       '<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">',
                       "<Collection>", *rows, "</Collection>", "</VTKFile>", ""])
+
+
+def _replace_folder(staged, folder):
+    """Puts the staged folder in folder's place: every frame of an earlier export goes, so a
+    sequence never mixes two runs (an earlier, longer export's last frames included)."""
+    old = folder + ".old"
+    shutil.rmtree(old, ignore_errors=True)
+    if os.path.exists(folder):
+        os.replace(folder, old)
+    os.replace(staged, folder)
+    shutil.rmtree(old, ignore_errors=True)
+
+
+def _export_engine(tr, e, out, fmt):
+    """Writes engine e's frames into out/e (replacing it whole); returns the frame count."""
+    faces = tr.triangles()
+    segments = tr.segments() if len(faces) == 0 else ()
+    ref = tr.positions[tr.index["reference"]]
+    folder = os.path.join(out, e)
+    staged = folder + ".new"
+    shutil.rmtree(staged, ignore_errors=True)
+    os.makedirs(staged)
+    entries = []
+    try:
+        for k, t in enumerate(tr.times(e)):
+            x = tr.positions[e][k]
+            name = f"frame_{k:04d}.{'obj' if fmt == 'obj' else 'vtp'}"
+            if fmt == "obj":
+                text = obj_text(x, faces, t, e, segments)
+            else:
+                d = np.linalg.norm(x - ref[k], axis=-1) if k < len(ref) else None
+                text = vtp_text(x, faces, tr.strain(x), d, segments)
+                entries.append((t, f"{e}/{name}"))
+            write_atomic(os.path.join(staged, name), text)
+        _replace_folder(staged, folder)
+    finally:
+        shutil.rmtree(staged, ignore_errors=True)  # interrupted: no half export left
+    if fmt == "vtk":
+        write_atomic(os.path.join(out, f"{e}.pvd"), pvd_text(entries))
+    return len(tr.times(e))
 
 
 def export(args):
@@ -98,33 +151,22 @@ def export(args):
             raise ReportError(f"--engine {e}: no such engine in {args.dir} (engines: "
                               f"{', '.join(tr.engines)})")
     out = os.path.join(args.out or os.path.join(args.dir, "export"), args.format)
-    faces = tr.triangles()
-    ref = tr.positions[tr.index["reference"]]
     written = 0
     for e in engines:
-        folder = os.path.join(out, e)
-        os.makedirs(folder, exist_ok=True)
-        entries = []
-        for k, t in enumerate(tr.times(e)):
-            x = tr.positions[e][k]
-            name = f"frame_{k:04d}.{'obj' if args.format == 'obj' else 'vtp'}"
-            if args.format == "obj":
-                text = obj_text(x, faces, t, e)
-            else:
-                d = np.linalg.norm(x - ref[k], axis=-1) if k < len(ref) else None
-                text = vtp_text(x, faces, tr.strain(x), d)
-                entries.append((t, f"{e}/{name}"))
-            write_atomic(os.path.join(folder, name), text)
-            written += 1
-        if args.format == "vtk":
-            write_atomic(os.path.join(out, f"{e}.pvd"), pvd_text(entries))
+        written += _export_engine(tr, e, out, args.format)
     print(f"wrote {out} ({len(engines)} engines, {written} {args.format} frames"
           + (", one .pvd per engine" if args.format == "vtk" else "") + ")")
     return 0
 
 
+def _interrupt(signum, frame):
+    """SIGTERM as Ctrl-C: the same clean-up, then exit 143 (130 for Ctrl-C)."""
+    raise KeyboardInterrupt(signum)
+
+
 def main(argv=None):
     argv = sys.argv[1:] if argv is None else argv
+    signal.signal(signal.SIGTERM, _interrupt)
     try:
         return export(parse_args(argv))
     except ReportError as e:
@@ -133,8 +175,8 @@ def main(argv=None):
     except OSError as e:
         print(f"export: error: {e.filename}: {e.strerror}", file=sys.stderr)
         return 2
-    except KeyboardInterrupt:
-        return 130
+    except KeyboardInterrupt as e:
+        return 143 if e.args == (signal.SIGTERM,) else 130
 
 
 if __name__ == "__main__":

@@ -72,6 +72,14 @@ class Trajectory:
                 faces += [(a, b, d), (a, d, c)]
         return np.array(faces, dtype=np.int64).reshape(-1, 3)
 
+    def segments(self):
+        """Segments between neighbouring particles as an array (segments, 2): a chain's shape,
+        which has no faces (also every grid edge of a wider grid)."""
+        nu, nv = self.grid
+        segs = [(j * nu + i, j * nu + i + 1) for j in range(nv) for i in range(nu - 1)]
+        segs += [(j * nu + i, (j + 1) * nu + i) for j in range(nv - 1) for i in range(nu)]
+        return np.array(segs, dtype=np.int64).reshape(-1, 2)
+
     def strain(self, x):
         """Per-vertex strain |l/l0 - 1| averaged over the vertex's springs, x (particles, 3)."""
         nu, nv = self.grid
