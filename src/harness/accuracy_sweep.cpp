@@ -18,6 +18,7 @@
 #include "harness/runner.hpp"
 #include "harness/scenario_loader.hpp"
 #include "harness/scenario_writer.hpp"
+#include "harness/sweep.hpp"
 #include "harness/sweep_table.hpp"
 #include "harness/text_file.hpp"
 #include "harness/user_error.hpp"
@@ -341,7 +342,7 @@ AccuracyRow measure(const AccuracyPlan& plan, const AccuracyConfig& c, const Tim
   const double simulated_s = double(run.counters.steps) * run.spec.dt;
   AccuracyRow row;
   row.engine = c.spec.name;
-  row.integrator = c.integrator;
+  row.integrator = integrator_label(c.integrator);
   row.dt = c.spec.dt;
   row.stable = run.stable;
   row.wall_s_per_sim_s = simulated_s > 0 ? t.wall_s / simulated_s : 0.0;
@@ -392,7 +393,7 @@ void run_configs(const Scenes& scenes, const std::vector<std::vector<size_t>>& g
     std::lock_guard<std::mutex> lock(progress_mutex);
     *runs += 1;
     progress.advance(double(o.repeats) * double(planned_steps(s, first.spec)),
-                     first.spec.name + (first.integrator.empty() ? "" : " " + first.integrator));
+                     first.spec.name + (first.integrator ? " " + integrator_label(first.integrator) : ""));
   });
 }
 

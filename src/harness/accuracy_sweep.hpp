@@ -34,6 +34,7 @@
 #include <string>
 #include <vector>
 
+#include "cloth/integrator.hpp"
 #include "harness/accuracy_recommendation.hpp"
 #include "harness/accuracy_rows.hpp"
 #include "harness/accuracy_summary.hpp"
@@ -49,7 +50,7 @@ namespace clothbench {
 struct AccuracyOptions {
   std::string out_dir;                   // where the CSV files go (created)
   std::vector<std::string> engines;      // engine names to sweep; empty: every engine
-  std::vector<std::string> integrators;  // custom engines only; empty: every integrator
+  std::vector<cloth::Integrator> integrators;  // custom engines only; empty: every integrator
   std::vector<double> dts;               // s, explicit time steps; empty: halvings
   int halvings = 4;                      // time steps per engine: dt, dt/2, ..., dt/2^(halvings-1)
                                          // from the engine's scenario dt

@@ -31,7 +31,7 @@ namespace clothbench {
 struct StabilityOptions {
   std::string out_dir;                   // stability.csv goes here (created)
   std::vector<std::string> engines;      // engine names; empty: all
-  std::vector<std::string> integrators;  // custom engines; empty: every integrator
+  std::vector<cloth::Integrator> integrators;  // custom engines; empty: every integrator
   double dt_max = 0.1;                   // s, no dt above this is tried
   double rel_tol = 0.02;                 // bisection until first_unstable / stable - 1 <= this
                                          // (or the two are neighbours on the step grid)
