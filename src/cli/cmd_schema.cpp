@@ -23,8 +23,7 @@ struct SchemaArgs {
 };
 
 int execute_schema(const SchemaArgs& a) {
-  if (a.scenario == a.outputs)
-    throw UserError("schema: expected one of --scenario or --outputs");
+  if (a.scenario == a.outputs) throw UserError("schema: expected one of --scenario or --outputs");
   if (a.scenario && a.format != "markdown")
     throw UserError("schema --scenario: --format " + a.format +
                     " is not offered; expected --format markdown");

@@ -15,7 +15,6 @@ namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-
 std::string optional_double(double v) {
   return std::isfinite(v) ? format_double(v) : "";
 }

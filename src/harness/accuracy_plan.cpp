@@ -215,7 +215,8 @@ void plan_resolutions(const Scenario& sc, const std::vector<EngineSpec>& engines
         c.spec = with_integrator_and_dt(e, integrator, e.dt);
         c.integrator = integrator;
         c.grid = static_cast<int>(g);
-        c.key = join_key(e.name, integrator_label(integrator), std::to_string(plan.sizes[g] * plan.sizes[g]));
+        c.key = join_key(e.name, integrator_label(integrator),
+                         std::to_string(plan.sizes[g] * plan.sizes[g]));
         c.rerun = rerun_at_grid(c.spec, plan.sizes[g], mass);
         plan.configs.push_back(std::move(c));
       }
@@ -223,7 +224,8 @@ void plan_resolutions(const Scenario& sc, const std::vector<EngineSpec>& engines
   for (const EngineSpec& e : engines)
     for (const std::optional<cloth::Integrator>& integrator : own_integrators(e, integrators))
       for (int r : plan.sizes)
-        plan.res_keys.push_back(join_key(e.name, integrator_label(integrator), std::to_string(r * r)));
+        plan.res_keys.push_back(
+            join_key(e.name, integrator_label(integrator), std::to_string(r * r)));
   std::string words;
   const EngineSpec base = reference_spec(sc, &words);
   AccuracyReference& rr = plan.resolution_reference;

@@ -17,9 +17,9 @@ namespace clothbench {
 struct AccuracyConfig {
   EngineSpec spec;
   std::optional<cloth::Integrator> integrator;  // none for Bullet engines
-  int grid = -1;           // resolution study: index into the grids; -1: time-step study
-  std::string key;         // row key in its table
-  std::string rerun;       // --set overrides that rerun it
+  int grid = -1;      // resolution study: index into the grids; -1: time-step study
+  std::string key;    // row key in its table
+  std::string rerun;  // --set overrides that rerun it
 };
 
 /// A reference run: rk4 on the custom engine's options, and how to rerun it.

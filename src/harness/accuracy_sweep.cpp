@@ -392,8 +392,9 @@ void run_configs(const Scenes& scenes, const std::vector<std::vector<size_t>>& g
     for (size_t i : members) rows.add(plan.configs[i], measure(plan, plan.configs[i], t, refs));
     std::lock_guard<std::mutex> lock(progress_mutex);
     *runs += 1;
-    progress.advance(double(o.repeats) * double(planned_steps(s, first.spec)),
-                     first.spec.name + (first.integrator ? " " + integrator_label(first.integrator) : ""));
+    progress.advance(
+        double(o.repeats) * double(planned_steps(s, first.spec)),
+        first.spec.name + (first.integrator ? " " + integrator_label(first.integrator) : ""));
   });
 }
 

@@ -56,8 +56,8 @@ Keys names_of(const std::vector<Value>& values, Name name) {
 
 }  // namespace
 
-const Keys kPlanes = names_of(std::vector<cloth::Plane>{cloth::Plane::xz, cloth::Plane::xy},
-                              plane_name);
+const Keys kPlanes =
+    names_of(std::vector<cloth::Plane>{cloth::Plane::xz, cloth::Plane::xy}, plane_name);
 const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1", "disk", "indices"};
 const Keys kSoftbodyStiffness =
     names_of(reference::all_softbody_stiffnesses(), reference::softbody_stiffness_name);

@@ -328,16 +328,14 @@ std::string read_line_search_choice(const Reader& r, const At& at, const cloth::
 /// cg_forcing and contacts: adaptive forcing and contacts in the solve by default with
 /// line-search.
 void read_line_search_keys(const Reader& r, const At& at, cloth::SolverOptions& o) {
-  o.cg_forcing = *cloth::parse_cg_forcing(
-      read_line_search_choice(r, at, o, "cg_forcing", kCgForcings,
-                              cloth::cg_forcing_name(cloth::CgForcing::adaptive),
-                              cloth::cg_forcing_name(cloth::CgForcing::fixed),
-                              "the linearized step has no Newton residual to adapt to"));
+  o.cg_forcing = *cloth::parse_cg_forcing(read_line_search_choice(
+      r, at, o, "cg_forcing", kCgForcings, cloth::cg_forcing_name(cloth::CgForcing::adaptive),
+      cloth::cg_forcing_name(cloth::CgForcing::fixed),
+      "the linearized step has no Newton residual to adapt to"));
   o.contacts_in_solve =
-      read_line_search_choice(r, at, o, "contacts", kContactModes, contact_mode_name(true),
-                              contact_mode_name(false),
-                              "the linearized step resolves contacts after the step") ==
-      contact_mode_name(true);
+      read_line_search_choice(
+          r, at, o, "contacts", kContactModes, contact_mode_name(true), contact_mode_name(false),
+          "the linearized step resolves contacts after the step") == contact_mode_name(true);
 }
 
 /// The options of e's kind, read from t.

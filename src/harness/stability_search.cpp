@@ -122,8 +122,7 @@ bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause) {
 
 StabilityBracket search_stability_limit(const Scenario& sc, const EngineSpec& engine,
                                         std::optional<cloth::Integrator> integrator,
-                                        long long n_start,
-                                        long long n_min, double rel_tol) {
+                                        long long n_start, long long n_min, double rel_tol) {
   Search search(sc, engine, integrator);
   // bracket on the step grid first, from the engine's own dt
   if (search.stable(n_start))

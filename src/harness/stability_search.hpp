@@ -44,10 +44,10 @@ struct StabilityBracket {
 /// Searches the limit of engine (integrator and dt applied per run) from n_start steps:
 /// halving n until a run fails or n_min (the --dt-max bound) is reached, or, when n_start
 /// fails, doubling n up to kMaxHalvings times (not after a timeout, nor past kMaxSteps); then
-/// bisecting on a log scale until the bracket is within rel_tol or neighbours on the grid. Throws Interrupted when asked to stop.
+/// bisecting on a log scale until the bracket is within rel_tol or neighbours on the grid. Throws
+/// Interrupted when asked to stop.
 StabilityBracket search_stability_limit(const Scenario& sc, const EngineSpec& engine,
                                         std::optional<cloth::Integrator> integrator,
-                                        long long n_start,
-                                        long long n_min, double rel_tol);
+                                        long long n_start, long long n_min, double rel_tol);
 
 }  // namespace clothbench

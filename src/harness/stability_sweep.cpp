@@ -46,9 +46,9 @@ void check_step_count(const Scenario& sc, const StabilityOptions& o) {
   const double steps = stability_horizon(sc) / o.dt_max;
   if (!(steps <= kMaxSteps))
     throw UserError("--dt-max " + format_double(o.dt_max) + ": every run would take at least " +
-                    format_double(steps) + " steps of the " +
-                    format_double(stability_horizon(sc)) + " s horizon, more than " +
-                    format_double(kMaxSteps) + "; expected a larger --dt-max");
+                    format_double(steps) + " steps of the " + format_double(stability_horizon(sc)) +
+                    " s horizon, more than " + format_double(kMaxSteps) +
+                    "; expected a larger --dt-max");
 }
 
 template <class T>

@@ -3,8 +3,10 @@
 // the loader enforces. The output files' schema against the writers is tests/schema/.
 
 #include <catch2/catch.hpp>
+#include <limits>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "harness/engine_kind.hpp"
@@ -92,14 +94,16 @@ dt = 1e-3
 /// The --set key of a row in kEverything: "sphere.0.radius", "engine.custom.dt".
 std::string override_key(const ScenarioKey& k) {
   if (k.table == "engine") return "engine." + (k.kind.empty() ? "custom" : k.kind) + "." + k.key;
-  for (const char* array : {"constraint", "handle", "sphere", "plane", "box", "capsule", "cylinder"})
+  for (const char* array :
+       {"constraint", "handle", "sphere", "plane", "box", "capsule", "cylinder"})
     if (k.table == array) return k.table + ".0." + k.key;
   return k.path();
 }
 
 /// A value the row's range refuses, as TOML ("" when it refuses no number).
 std::string outside(const ScenarioKey& k) {
-  if (k.integer) return std::to_string(k.max < std::numeric_limits<int>::max() ? k.max + 1 : k.min - 1);
+  if (k.integer)
+    return std::to_string(k.max < std::numeric_limits<int>::max() ? k.max + 1 : k.min - 1);
   for (double v : {-1.0, 0.0, 1.5})
     if (!k.bound->ok(v)) return toml_double(v);
   return "";
@@ -119,19 +123,21 @@ TEST_CASE("schema: a row for every key the loader accepts, and none it does not"
   }
   const std::set<KeyId> accepted = accepted_keys();
   for (const KeyId& k : accepted) {
-    INFO("accepted by the loader, no schema row: " << std::get<0>(k) << "." << std::get<2>(k)
-                                                  << " " << std::get<1>(k));
+    INFO("accepted by the loader, no schema row: " << std::get<0>(k) << "." << std::get<2>(k) << " "
+                                                   << std::get<1>(k));
     CHECK(rows.count(k) == 1);
   }
   for (const KeyId& k : rows) {
     INFO("schema row, not accepted by the loader: " << std::get<0>(k) << "." << std::get<2>(k)
-                                                   << " " << std::get<1>(k));
+                                                    << " " << std::get<1>(k));
     CHECK(accepted.count(k) == 1);
   }
 }
 
 TEST_CASE("schema: the ranges in the table are the ones the loader enforces", "[schema]") {
-  REQUIRE_NOTHROW(parse_scenario(kEverything, "everything.toml"));
+  // every engine's keys are read; only the custom engine must model the scene
+  const std::vector<std::string> only = {"custom"};
+  REQUIRE_NOTHROW(parse_scenario(kEverything, "everything.toml", {}, only));
   int checked = 0;
   for (const ScenarioKey& k : scenario_keys()) {
     std::string value;
@@ -143,7 +149,7 @@ TEST_CASE("schema: the ranges in the table are the ones the loader enforces", "[
     const std::string set = override_key(k) + "=" + value;
     INFO("--set " << set << " (schema range: " << k.range << ")");
     // refused, naming the key, with the range the table states
-    CHECK_THROWS_WITH(parse_scenario(kEverything, "everything.toml", {set}),
+    CHECK_THROWS_WITH(parse_scenario(kEverything, "everything.toml", {set}, only),
                       Contains("--set " + override_key(k)) && Contains(k.range));
     ++checked;
   }

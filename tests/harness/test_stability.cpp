@@ -159,7 +159,8 @@ TEST_CASE("every stability row replays with clothbench run", "[stability][sweep]
   const std::vector<std::string> base = {"duration=0.3"};
   const Scenario sc = parse_scenario(kScene, "small.toml", base);
   StabilityOptions o = quick_options(dir.str());
-  o.integrators = {cloth::Integrator::explicit_euler, cloth::Integrator::midpoint, cloth::Integrator::implicit_euler};
+  o.integrators = {cloth::Integrator::explicit_euler, cloth::Integrator::midpoint,
+                   cloth::Integrator::implicit_euler};
   o.dt_max = 0.02;  // implicit Euler reaches it
   const std::vector<StabilityRow> rows = run_stability(sc, o);
   REQUIRE(rows.size() == 3);
@@ -326,7 +327,8 @@ TEST_CASE("the stability sweep does not depend on the number of jobs", "[stabili
   TempDir one("jobs1"), three("jobs3");
   const Scenario sc = parse_scenario(kScene, "small.toml", {"duration=0.3"});
   StabilityOptions o = quick_options(one.str());
-  o.integrators = {cloth::Integrator::explicit_euler, cloth::Integrator::symplectic_euler, cloth::Integrator::midpoint};
+  o.integrators = {cloth::Integrator::explicit_euler, cloth::Integrator::symplectic_euler,
+                   cloth::Integrator::midpoint};
   o.jobs = 1;
   run_stability(sc, o);
   o.out_dir = three.str();

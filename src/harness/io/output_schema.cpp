@@ -10,10 +10,10 @@ namespace {
 // columns several files share
 constexpr OutputColumn kEngine{"engine", "text", "the engine's name in the scenario"};
 constexpr OutputColumn kIntegrator{"integrator", "text",
-                               "the custom engine's integrator; empty for a Bullet engine"};
+                                   "the custom engine's integrator; empty for a Bullet engine"};
 constexpr OutputColumn kT{"t", "s", "simulated time of the frame"};
 constexpr OutputColumn kRerun{"rerun", "text",
-                          "the --set overrides that make `clothbench run` repeat the row"};
+                              "the --set overrides that make `clothbench run` repeat the row"};
 
 // the columns of stability.csv, which map.csv repeats after its varied keys
 const std::vector<OutputColumn>& stability_columns() {
@@ -24,8 +24,7 @@ const std::vector<OutputColumn>& stability_columns() {
       {"first_unstable_dt", "s",
        "smallest time step found unstable above stable_dt; inf when none up to --dt-max"},
       {"predicted_dt", "s", "the limit linear theory predicts; empty without a theory"},
-      {"ratio_measured_to_predicted", "1",
-       "stable_dt / predicted_dt when both limits were found"},
+      {"ratio_measured_to_predicted", "1", "stable_dt / predicted_dt when both limits were found"},
       {"cause", "text", "how the first unstable run failed, and the limiting mode"},
       {"runs", "count", "simulations the search took"},
       {"rerun", "text", "the --set overrides that rerun the stable_dt run"},
@@ -133,14 +132,10 @@ std::vector<OutputFile> run_files() {
 
 std::vector<OutputFile> sweep_files() {
   return {
-      {"stability.csv",
-       "clothbench stability, in its output folder",
-       "one engine (custom engines: one integrator)",
-       stability_columns()},
-      {"map.csv",
-       "clothbench map, in its output folder",
-       "one point of the grid, engine and integrator",
-       map_columns()},
+      {"stability.csv", "clothbench stability, in its output folder",
+       "one engine (custom engines: one integrator)", stability_columns()},
+      {"map.csv", "clothbench map, in its output folder",
+       "one point of the grid, engine and integrator", map_columns()},
       {"work_precision.csv",
        "clothbench accuracy, in its output folder",
        "one engine and integrator at one time step",
@@ -148,8 +143,10 @@ std::vector<OutputFile> sweep_files() {
         kIntegrator,
         {"dt", "s", "time step"},
         {"stable", "0/1", "1 when the run stayed stable"},
-        {"error_final", "m", "RMS particle distance to the fine reference at the end; empty when unstable"},
-        {"error_max", "m", "largest RMS particle distance over the logged frames; empty when unstable"},
+        {"error_final", "m",
+         "RMS particle distance to the fine reference at the end; empty when unstable"},
+        {"error_max", "m",
+         "largest RMS particle distance over the logged frames; empty when unstable"},
         {"wall_s", "s", "wall-clock time in the engine's steps, median of the repeats"},
         {"wall_s_per_sim_s", "1", "wall-clock seconds per simulated second"},
         {"force_evals", "count", "force evaluations over the run"},
@@ -160,7 +157,8 @@ std::vector<OutputFile> sweep_files() {
        "one engine and integrator",
        {kEngine,
         kIntegrator,
-        {"order", "1", "fitted order of convergence of error_final in dt; empty with fewer than 2 points"},
+        {"order", "1",
+         "fitted order of convergence of error_final in dt; empty with fewer than 2 points"},
         {"points", "count", "stable rows above the reference's error floor the fit used"}}},
       {"recommendation.csv",
        "clothbench accuracy --tolerance, in its output folder",

@@ -58,10 +58,10 @@ class Rows {
     m_out.back().default_value = def;
   }
   /// An integer the loader checks to lie in [min, max] (max kNoMax: no upper limit).
-  void integer(const char* key, long long def, long long min, long long max,
-               const char* meaning, const std::string& def_text = "") {
-    ScenarioKey k = row(key, "integer", "count", def_text.empty() ? std::to_string(def) : def_text,
-                        meaning);
+  void integer(const char* key, long long def, long long min, long long max, const char* meaning,
+               const std::string& def_text = "") {
+    ScenarioKey k =
+        row(key, "integer", "count", def_text.empty() ? std::to_string(def) : def_text, meaning);
     k.range = max == kNoMax ? ">= " + std::to_string(min)
                             : "[" + std::to_string(min) + ", " + std::to_string(max) + "]";
     k.integer = true;
@@ -179,8 +179,8 @@ void selection_keys(std::vector<ScenarioKey>& out, const char* table, bool hold)
   r.choice("select", quoted(c.select), kSelections,
            "which particles: the four corners, one edge, a disk or a list of grid indices");
   if (hold)
-    r.other("hold", "string", "", quoted(hold_letters(c.hold)), "a non-empty combination of x, y, z",
-            "the world axes held");
+    r.other("hold", "string", "", quoted(hold_letters(c.hold)),
+            "a non-empty combination of x, y, z", "the world axes held");
   r.other("center", "[a, b] numbers", "m", "none (required by disk)", "any finite numbers",
           "select = \"disk\": centre on the cloth plane's two axes (x, z or x, y)");
   r.number("radius", "m", "none (required by disk)", kPositive,
@@ -264,12 +264,13 @@ void custom_engine_keys(std::vector<ScenarioKey>& out) {
   r.choice("linear_solver", quoted(cloth::linear_solver_name(o.linear_solver)), kLinearSolvers,
            "implicit-euler: the solver of each Newton system");
   r.number("cg_tolerance", "1",
-           both(shortest_decimal(o.cg_tolerance), shortest_decimal(ls.cg_tolerance)),
-           kPositive, "implicit-euler: relative residual each linear system is solved to");
+           both(shortest_decimal(o.cg_tolerance), shortest_decimal(ls.cg_tolerance)), kPositive,
+           "implicit-euler: relative residual each linear system is solved to");
   r.integer("cg_max_iterations", o.cg_max_iterations, 1, kNoMax,
             "implicit-euler: conjugate-gradient iterations per system, at most");
   r.choice("cg_forcing",
-           both(quoted(cloth::cg_forcing_name(o.cg_forcing)), quoted(cloth::cg_forcing_name(ls.cg_forcing))),
+           both(quoted(cloth::cg_forcing_name(o.cg_forcing)),
+                quoted(cloth::cg_forcing_name(ls.cg_forcing))),
            kCgForcings,
            "implicit-euler: fixed tolerance, or Eisenstat and Walker's adaptive forcing "
            "(line-search only)");
@@ -334,8 +335,8 @@ std::string scenario_schema_markdown() {
   std::ostringstream o;
   o << "| key | type | unit | default | range | meaning |\n|---|---|---|---|---|---|\n";
   for (const ScenarioKey& k : scenario_keys()) {
-    o << "| `" << k.path() << "`" << (k.kind.empty() ? "" : " (" + k.kind + ")") << " | "
-      << k.type << " | " << (k.unit.empty() ? "-" : k.unit) << " | " << k.default_value << " | "
+    o << "| `" << k.path() << "`" << (k.kind.empty() ? "" : " (" + k.kind + ")") << " | " << k.type
+      << " | " << (k.unit.empty() ? "-" : k.unit) << " | " << k.default_value << " | "
       << (k.range.empty() ? "-" : k.range) << " | " << k.meaning << " |\n";
   }
   return o.str();
