@@ -1,6 +1,6 @@
 """The trajectories a run writes for the player and the exports (trajectory/ in a run folder).
 
-Layout (written by src/harness/trajectory_files.cpp):
+Layout (written by src/harness/run/trajectory_files.cpp):
     trajectory/trajectory.json   the index: interval (s), frames, grid [nu, nv], spacing [du, dv]
                                  (m, rest spacing), springs (grid offsets [di, dj] of the spring
                                  kinds the cloth has), reference, engines (name, file, frames,

@@ -2,8 +2,8 @@
 /// @file test_scenes.hpp
 /// Small scenes the physics tests share.
 
-#include "cloth/model.hpp"
-#include "cloth/scene.hpp"
+#include "cloth/model/model.hpp"
+#include "cloth/model/scene.hpp"
 
 namespace clothbench::test {
 

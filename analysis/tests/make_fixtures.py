@@ -46,7 +46,7 @@ ENGINES = [  # name, kind, integrator, dt
 ]
 
 # the facts about engine kinds and integrators that clothbench writes into run.json
-# (run_info_json in src/harness/runner.cpp), which the report reads: fixture data
+# (run_info_json in src/harness/run/runner.cpp), which the report reads: fixture data
 FACTS = {
     "engine_kinds": {
         "custom": {"has_integrators": True, "energy_gated": True, "energy_note": ""},

@@ -9,9 +9,9 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/accuracy_sweep.hpp"
-#include "harness/output_lock.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/output_lock.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/sweeps/accuracy_sweep.hpp"
 #include "option_checks.hpp"
 #include "scenario_input.hpp"
 

@@ -10,10 +10,10 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/csv_writer.hpp"
-#include "harness/gate_report.hpp"
-#include "harness/output_lock.hpp"
-#include "harness/regression_check.hpp"
+#include "harness/gate/gate_report.hpp"
+#include "harness/gate/regression_check.hpp"
+#include "harness/io/csv_writer.hpp"
+#include "harness/io/output_lock.hpp"
 #include "option_checks.hpp"
 #include "scenario_input.hpp"
 

@@ -6,11 +6,11 @@
 #include <iostream>
 #include <string>
 
-#include "cloth/integrator.hpp"
+#include "cloth/model/integrator.hpp"
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/engine_kind.hpp"
-#include "harness/scenario_loader.hpp"
+#include "harness/scenario/engine_kind.hpp"
+#include "harness/scenario/scenario_loader.hpp"
 #include "scenario_input.hpp"
 
 namespace clothbench::cli {

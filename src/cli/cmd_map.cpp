@@ -8,10 +8,11 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/output_lock.hpp"
-#include "harness/stability_map.hpp"
+#include "harness/io/output_lock.hpp"
+#include "harness/sweeps/stability_map.hpp"
 #include "option_checks.hpp"
 #include "scenario_input.hpp"
+#include "summaries.hpp"
 
 namespace clothbench::cli {
 namespace {

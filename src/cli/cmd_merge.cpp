@@ -10,9 +10,9 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/output_lock.hpp"
-#include "harness/shard.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/output_lock.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/sweeps/shard.hpp"
 
 namespace clothbench::cli {
 namespace {

@@ -15,7 +15,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/user_error.hpp"
 
 namespace clothbench::cli {
 

@@ -8,12 +8,12 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/attribution.hpp"
-#include "harness/output_lock.hpp"
-#include "harness/runner.hpp"
-#include "harness/summaries.hpp"
+#include "harness/io/output_lock.hpp"
+#include "harness/run/attribution.hpp"
+#include "harness/run/runner.hpp"
 #include "option_checks.hpp"
 #include "scenario_input.hpp"
+#include "summaries.hpp"
 
 namespace clothbench::cli {
 namespace {

@@ -11,7 +11,7 @@
 #include "exit_codes.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/scenario/scenario_schema.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/user_error.hpp"
 
 namespace clothbench::cli {
 namespace {

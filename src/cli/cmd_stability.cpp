@@ -8,12 +8,12 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/output_lock.hpp"
-#include "harness/stability_files.hpp"
-#include "harness/stability_sweep.hpp"
-#include "harness/summaries.hpp"
+#include "harness/io/output_lock.hpp"
+#include "harness/sweeps/stability_files.hpp"
+#include "harness/sweeps/stability_sweep.hpp"
 #include "option_checks.hpp"
 #include "scenario_input.hpp"
+#include "summaries.hpp"
 
 namespace clothbench::cli {
 namespace {

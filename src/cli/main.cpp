@@ -14,9 +14,9 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "harness/build_info.hpp"
-#include "harness/runner.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/run/build_info.hpp"
+#include "harness/run/runner.hpp"
 #include "option_checks.hpp"
 
 namespace {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <cstdlib>
 
-#include "harness/scenario_format.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_format.hpp"
 
 namespace clothbench::cli {
 

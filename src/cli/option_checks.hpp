@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "cloth/integrator.hpp"
-#include "harness/shard.hpp"
+#include "cloth/model/integrator.hpp"
+#include "harness/sweeps/shard.hpp"
 
 namespace clothbench::cli {
 

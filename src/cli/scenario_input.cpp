@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <filesystem>
 
-#include "harness/scenario_loader.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_loader.hpp"
 
 namespace clothbench::cli {
 

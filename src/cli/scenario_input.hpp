@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/scenario.hpp"
+#include "harness/scenario/scenario.hpp"
 
 namespace clothbench::cli {
 

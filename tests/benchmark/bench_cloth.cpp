@@ -20,9 +20,9 @@
 
 #include <random>
 
-#include "cloth/mass_spring_cloth.hpp"
-#include "cloth/model.hpp"
-#include "cloth/spring_forces.hpp"
+#include "cloth/forces/spring_forces.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
+#include "cloth/model/model.hpp"
 
 namespace {
 

@@ -1,7 +1,7 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "cloth/mass_spring_cloth.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
 #include "test_scenes.hpp"
 #include "tolerances.hpp"
 

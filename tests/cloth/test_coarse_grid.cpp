@@ -2,9 +2,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "cloth/coarse_grid.hpp"
-#include "cloth/implicit_matrix.hpp"
-#include "cloth/mass_spring_cloth.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
+#include "cloth/solvers/coarse_grid.hpp"
+#include "cloth/solvers/implicit_matrix.hpp"
 #include "test_scenes.hpp"
 
 using namespace cloth;

@@ -4,10 +4,11 @@
 #include <memory>
 #include <vector>
 
-#include "cloth/colliders.hpp"
-#include "cloth/energies.hpp"
-#include "cloth/mass_spring_cloth.hpp"
-#include "harness/engine_factory.hpp"
+#include "cloth/contact/colliders.hpp"
+#include "cloth/forces/energies.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
+#include "harness/engines/engine_factory.hpp"
+#include "harness/scenario/engine_refusal.hpp"
 
 using namespace cloth;
 

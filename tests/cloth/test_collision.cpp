@@ -3,9 +3,9 @@
 #include <cmath>
 #include <vector>
 
-#include "cloth/energies.hpp"
-#include "cloth/mass_spring_cloth.hpp"
-#include "cloth/sphere_collision.hpp"
+#include "cloth/contact/sphere_collision.hpp"
+#include "cloth/forces/energies.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
 #include "tolerances.hpp"
 
 using namespace cloth;

@@ -1,8 +1,8 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "cloth/energies.hpp"
-#include "cloth/mass_spring_cloth.hpp"
+#include "cloth/forces/energies.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
 #include "test_scenes.hpp"
 
 using namespace cloth;

@@ -1,10 +1,10 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "cloth/energies.hpp"
-#include "cloth/implicit_matrix.hpp"
-#include "cloth/mass_spring_cloth.hpp"
-#include "cloth/spring_forces.hpp"
+#include "cloth/forces/energies.hpp"
+#include "cloth/forces/spring_forces.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
+#include "cloth/solvers/implicit_matrix.hpp"
 #include "test_scenes.hpp"
 #include "tolerances.hpp"
 

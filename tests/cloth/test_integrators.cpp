@@ -2,9 +2,9 @@
 #include <cmath>
 #include <vector>
 
-#include "cloth/energies.hpp"
-#include "cloth/mass_spring_cloth.hpp"
-#include "cloth/spring_forces.hpp"
+#include "cloth/forces/energies.hpp"
+#include "cloth/forces/spring_forces.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
 #include "test_scenes.hpp"
 #include "tolerances.hpp"
 

@@ -2,9 +2,9 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "cloth/linear_stability.hpp"
-#include "cloth/mass_spring_cloth.hpp"
-#include "cloth/model.hpp"
+#include "cloth/analysis/linear_stability.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
+#include "cloth/model/model.hpp"
 #include "tolerances.hpp"
 
 using namespace cloth;

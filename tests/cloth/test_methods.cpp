@@ -3,8 +3,8 @@
 #include <cmath>
 #include <vector>
 
-#include "cloth/energies.hpp"
-#include "cloth/mass_spring_cloth.hpp"
+#include "cloth/forces/energies.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
 #include "test_scenes.hpp"
 
 using namespace cloth;

@@ -2,9 +2,9 @@
 #include <catch2/catch.hpp>
 #include <random>
 
-#include "cloth/model.hpp"
-#include "cloth/spring_forces.hpp"
-#include "cloth/spring_jacobians.hpp"
+#include "cloth/forces/spring_forces.hpp"
+#include "cloth/forces/spring_jacobians.hpp"
+#include "cloth/model/model.hpp"
 #include "test_scenes.hpp"
 #include "tolerances.hpp"
 

@@ -9,10 +9,10 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "harness/csv_reader.hpp"
-#include "harness/scenario_loader.hpp"
-#include "harness/tolerances_file.hpp"
-#include "harness/user_error.hpp"
+#include "harness/gate/tolerances_file.hpp"
+#include "harness/io/csv_reader.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_loader.hpp"
 
 namespace clothbench::fuzz {
 

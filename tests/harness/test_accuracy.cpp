@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "cloth/integrator.hpp"
-#include "harness/accuracy_sweep.hpp"
-#include "harness/user_error.hpp"
-#include "harness/scenario_loader.hpp"
+#include "cloth/model/integrator.hpp"
+#include "harness/sweeps/accuracy_sweep.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_loader.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
 

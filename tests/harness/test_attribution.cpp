@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "harness/attribution.hpp"
-#include "harness/runner.hpp"
-#include "harness/scenario_loader.hpp"
-#include "harness/user_error.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/run/attribution.hpp"
+#include "harness/run/runner.hpp"
+#include "harness/scenario/scenario_loader.hpp"
 #include "temp_dir.hpp"
 
 using namespace clothbench;

@@ -6,11 +6,11 @@
 #include <map>
 #include <sstream>
 
-#include "harness/csv_writer.hpp"
-#include "harness/runner.hpp"
-#include "harness/scenario_loader.hpp"
-#include "harness/scenario_writer.hpp"
-#include "harness/staged_folder.hpp"
+#include "harness/io/csv_writer.hpp"
+#include "harness/io/staged_folder.hpp"
+#include "harness/run/runner.hpp"
+#include "harness/scenario/scenario_loader.hpp"
+#include "harness/scenario/scenario_writer.hpp"
 #include "temp_dir.hpp"
 #include "test_scenes.hpp"
 

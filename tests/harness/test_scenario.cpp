@@ -10,11 +10,11 @@
 #include <regex>
 #include <sstream>
 
-#include "cloth/model.hpp"
-#include "harness/scenario.hpp"
-#include "harness/scenario_loader.hpp"
-#include "harness/scenario_writer.hpp"
-#include "harness/toml_text.hpp"
+#include "cloth/model/model.hpp"
+#include "harness/io/toml_text.hpp"
+#include "harness/scenario/scenario.hpp"
+#include "harness/scenario/scenario_loader.hpp"
+#include "harness/scenario/scenario_writer.hpp"
 
 namespace fs = std::filesystem;
 using namespace clothbench;

@@ -9,13 +9,13 @@
 #include <tuple>
 #include <vector>
 
-#include "harness/engine_kind.hpp"
+#include "harness/scenario/engine_kind.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/scenario/scenario_schema.hpp"
-#include "harness/scenario_error.hpp"
-#include "harness/scenario_format.hpp"
-#include "harness/scenario_loader.hpp"
-#include "harness/toml_reader.hpp"
+#include "harness/scenario/scenario_error.hpp"
+#include "harness/scenario/scenario_format.hpp"
+#include "harness/scenario/scenario_loader.hpp"
+#include "harness/scenario/toml_reader.hpp"
 
 using namespace clothbench;
 using Catch::Matchers::Contains;

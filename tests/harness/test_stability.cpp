@@ -6,12 +6,12 @@
 #include <limits>
 #include <sstream>
 
-#include "cloth/linear_stability.hpp"
-#include "harness/csv_writer.hpp"
-#include "harness/metrics.hpp"
-#include "harness/runner.hpp"
-#include "harness/scenario_loader.hpp"
-#include "harness/stability_sweep.hpp"
+#include "cloth/analysis/linear_stability.hpp"
+#include "harness/io/csv_writer.hpp"
+#include "harness/run/metrics.hpp"
+#include "harness/run/runner.hpp"
+#include "harness/scenario/scenario_loader.hpp"
+#include "harness/sweeps/stability_sweep.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
 

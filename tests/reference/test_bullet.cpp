@@ -7,11 +7,12 @@
 #include <string>
 #include <vector>
 
-#include "cloth/energies.hpp"
-#include "cloth/mass_spring_cloth.hpp"
-#include "cloth/spring_forces.hpp"
-#include "harness/engine_factory.hpp"
-#include "reference/link_stiffness.hpp"
+#include "cloth/forces/energies.hpp"
+#include "cloth/forces/spring_forces.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
+#include "harness/engines/engine_factory.hpp"
+#include "harness/scenario/engine_refusal.hpp"
+#include "reference/bullet/link_stiffness.hpp"
 #include "test_scenes.hpp"
 
 using namespace cloth;

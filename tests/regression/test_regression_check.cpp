@@ -9,11 +9,11 @@
 #include <string>
 #include <vector>
 
-#include "harness/csv_writer.hpp"
-#include "harness/regression_check.hpp"
-#include "harness/user_error.hpp"
-#include "harness/csv_reader.hpp"
-#include "harness/sweep.hpp"
+#include "harness/io/csv_writer.hpp"
+#include "harness/gate/regression_check.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/io/csv_reader.hpp"
+#include "harness/sweeps/sweep.hpp"
 
 using clothbench::check_scenario;
 using clothbench::CheckOptions;

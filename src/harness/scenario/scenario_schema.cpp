@@ -3,14 +3,14 @@
 #include <limits>
 #include <sstream>
 
-#include "cloth/number_format.hpp"
-#include "cloth/scene.hpp"
-#include "cloth/solver_options.hpp"
-#include "harness/engine_kind.hpp"
-#include "harness/scenario.hpp"
-#include "harness/scenario_format.hpp"
-#include "harness/toml_reader.hpp"
-#include "reference/bullet_options.hpp"
+#include "format/number_format.hpp"
+#include "cloth/model/scene.hpp"
+#include "cloth/solvers/solver_options.hpp"
+#include "harness/scenario/engine_kind.hpp"
+#include "harness/scenario/scenario.hpp"
+#include "harness/scenario/scenario_format.hpp"
+#include "harness/scenario/toml_reader.hpp"
+#include "reference/bullet/bullet_options.hpp"
 
 namespace clothbench {
 

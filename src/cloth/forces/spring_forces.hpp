@@ -1,0 +1,47 @@
+#pragma once
+/// @file spring_forces.hpp
+/// Spring and damping forces of the report, energies and strain, family by family:
+///   f_a = -k (|x_a - x_b| - l0) d^ - c ((v_a - v_b) . d^) d^,   d^ = (x_a - x_b) / |x_a - x_b|
+
+#include "cloth/model/spring_set.hpp"
+#include "cloth/model/types.hpp"
+
+namespace cloth {
+
+/// Adds every spring's elastic and damping force to f.
+/// @param x    3 by #P positions (m)
+/// @param v    3 by #P velocities (m/s)
+/// @param f    3 by #P forces (N), accumulated into
+/// @param buf  3 by #P scratch, overwritten
+/// @return the power the spring dampers dissipate (W, >= 0)
+double add_spring_forces(const SpringSet& springs, const Matrix3X& x, const Matrix3X& v,
+                         Matrix3X& f, Matrix3X& buf);
+
+/// Power dissipated by the spring dampers (W) without computing forces.
+/// @param x  3 by #P positions (m)
+/// @param v  3 by #P velocities (m/s)
+double damping_power(const SpringSet& springs, const Matrix3X& x, const Matrix3X& v);
+
+/// Elastic potential energy sum 1/2 k (|d| - l0)^2 (J).
+/// @param x  3 by #P positions (m)
+double elastic_energy(const SpringSet& springs, const Matrix3X& x);
+
+/// Strain |d| / l0 - 1 over all springs.
+struct StrainStats {
+  double max_abs = 0;   // largest |strain|
+  double mean_abs = 0;  // mean |strain|
+};
+
+/// Strain statistics of positions x (3 by #P); NaN positions give NaN statistics.
+StrainStats strain_stats(const SpringSet& springs, const Matrix3X& x);
+
+}  // namespace cloth
+
+namespace cloth {
+
+/// True when every coordinate is finite and every spring's |strain| is at most limit.
+/// Cheap enough to run every step: squared lengths only, no square root or division.
+/// @param x  3 by #P positions (m)
+bool within_strain(const SpringSet& springs, const Matrix3X& x, double limit);
+
+}  // namespace cloth

@@ -1,0 +1,206 @@
+#include "cloth/integrators/implicit_euler.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "cloth/forces/spring_forces.hpp"
+
+namespace cloth {
+
+namespace {
+
+// armijo's sufficient-decrease constant and the line search's halvings
+constexpr double kArmijo = 1e-4;
+constexpr int kMaxHalvings = 30;
+
+}  // namespace
+
+LinearSolver resolved_linear_solver(LinearSolver s, int particles) {
+  // the coarse grid's setup and solves cost more than they save below about 40 per edge;
+  // ldlt was never the fastest (README, "Large steps")
+  if (s != LinearSolver::automatic) return s;
+  return particles >= kTwoLevelMinParticles ? LinearSolver::two_level_cg
+                                            : LinearSolver::block_jacobi_cg;
+}
+
+ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o)
+    : ImplicitEulerNewton(m, o, resolved_linear_solver(o.linear_solver, m.particle_count())) {}
+
+ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o,
+                                         LinearSolver solver)
+    : m_matrix(m, solver == LinearSolver::ldlt),
+      m_solver(m, solver),
+      m_direct(solver == LinearSolver::ldlt) {
+  const Eigen::Index n = m.particle_count();
+  for (Matrix3X* a :
+       {&m_x0, &m_v0, &m_v, &m_x, &m_trial, &m_dv, &m_force, &m_damp, &m_zero, &m_buf, &m_rhs})
+    a->setZero(3, n);
+  m_history.reserve(static_cast<size_t>(o.newton_iterations) + 1);
+}
+
+double ImplicitEulerNewton::objective(const Model& m, double h, const Matrix3X& v) {
+  m_x = m_x0 + h * v;
+  // inertia 1/2 |v - v0 - h g|_M^2 over free axes (held axes add a constant)
+  double inertia = 0.0;
+  for (int r = 0; r < 3; ++r)
+    inertia += ((v.row(r) - m_v0.row(r)).array() - h * m.gravity[r])
+                   .square()
+                   .matrix()
+                   .cwiseProduct(m.free.row(r))
+                   .dot(m.mass.transpose());
+  // dampers' Rayleigh potential: v . D0 v = -c sum (d0 . (v_q - v_p))^2
+  m_damp.setZero();
+  add_jacobian_product(m.springs, m_lin0, v, 0.0, 1.0, m_damp, m_buf);
+  // drag's potential: c |v - wind|^2 less the constant c |wind|^2
+  const double rayleigh = -v.cwiseProduct(m_damp).sum() + m.air_drag * v.squaredNorm() -
+                          2.0 * m.air_drag * m.wind.dot(v.rowwise().sum());
+  return 0.5 * inertia + elastic_energy(m.springs, m_x) + 0.5 * h * rayleigh;
+}
+
+double ImplicitEulerNewton::residual(const Model& m, double h, const Matrix3X& v) {
+  m_x = m_x0 + h * v;
+  // f = elastic force at x + frozen-direction damping + drag + gravity
+  m_force.setZero();
+  add_spring_forces(m.springs, m_x, m_zero, m_force, m_buf);
+  add_jacobian_product(m.springs, m_lin0, v, 0.0, 1.0, m_force, m_buf);
+  m.add_drag(v, m_force);
+  for (int r = 0; r < 3; ++r) m_force.row(r) += m.gravity[r] * m.mass.transpose();
+  // rhs = -grad Phi = h f - M (v - v0), zero on held axes
+  for (int r = 0; r < 3; ++r)
+    m_rhs.row(r) = h * m_force.row(r) - (v.row(r) - m_v0.row(r)).cwiseProduct(m.mass.transpose());
+  m_rhs = (m.free.array() > 0.0).select(m_rhs, 0.0);
+  // a contact's normal part is the constraint's impulse, -(n . rhs) along n (N s)
+  m_impulse.resize(m_contacts.size());
+  for (size_t k = 0; k < m_contacts.size(); ++k) {
+    const ContactConstraint& c = m_contacts[k];
+    m_impulse[k] = -c.normal.dot(m_rhs.col(c.particle));
+  }
+  remove_normal_parts(m_contacts, m_rhs);
+  double worst = 0.0;
+  for (int r = 0; r < 3; ++r)
+    worst =
+        std::max(worst, m_rhs.row(r).cwiseProduct(m.inv_mass.transpose()).cwiseAbs().maxCoeff());
+  return worst;
+}
+
+bool ImplicitEulerNewton::line_search(const Model& m, double h, double slope, Counters& counters) {
+  // backtracking from the full Newton step until Armijo's condition holds on Phi
+  double alpha = 1.0;
+  for (int i = 0; i < kMaxHalvings; ++i, alpha *= 0.5) {
+    m_trial = m_v + alpha * m_dv;
+    ++counters.force_evals;
+    const double phi = objective(m, h, m_trial);
+    if (std::isfinite(phi) && phi <= m_phi - kArmijo * alpha * slope) {
+      m_v = m_trial;
+      m_phi = phi;
+      return true;
+    }
+  }
+  return false;
+}
+
+void ImplicitEulerNewton::start_step(const Model& m, const SolverOptions& o, double t_end, double h,
+                                     const Matrix3X& x, const Matrix3X& v) {
+  m_x0 = x;
+  m_v0 = v;
+  m_v = v;
+  m_contacts.clear();
+  m_solver.start_step();
+  if (o.contacts_in_solve) find_contact_constraints(m, t_end, h, x, v, m_released, m_contacts);
+  // the first guess x0 + h v0, with each contact's normal velocity fixed
+  for (const ContactConstraint& c : m_contacts)
+    m_v.col(c.particle) += (c.normal_velocity - c.normal.dot(m_v.col(c.particle))) * c.normal;
+  // the dampers' directions are frozen at the step's start
+  linearize_springs(m.springs, m_x0, o.clamp_compressed, m_lin0);
+}
+
+void ImplicitEulerNewton::newton_direction(const Model& m, const SolverOptions& o, double h,
+                                           double eta, Counters& counters) {
+  // newton system A dv = -grad Phi at the iterate, filtered at held axes and contacts
+  m_x = m_x0 + h * m_v;
+  // after the first clamped_iterations, the direction comes from the exact matrix, preconditioned
+  // by the clamped one, and CG stops where the exact matrix curves down (truncated Newton)
+  const int iteration = static_cast<int>(m_history.size()) - 1;
+  const bool exact = !m_direct && o.clamp_compressed && iteration >= o.clamped_iterations;
+  linearize_springs(m.springs, m_x, o.clamp_compressed, m_lin, exact ? &m_lin_exact : nullptr);
+  // the conjugate gradients apply A matrix-free and need only its diagonal blocks
+  if (m_direct)
+    m_matrix.assemble(m, m_lin, m_lin0, h);
+  else
+    m_matrix.assemble_diagonal_blocks(m, m_lin, m_lin0, h);
+  m_matrix.apply_contacts(m, m_contacts, m_direct);
+  CgResult cg;
+  if (exact) {
+    cg = m_solver.solve(m, m_matrix, m_lin_exact, m_lin, m_lin0, h, m_rhs, m_dv, eta,
+                        o.cg_max_iterations, m_contacts, true);
+  }
+  // no step before the first direction of negative curvature: the clamped matrix's direction
+  if (!exact || (cg.negative_curvature && cg.iterations == 0)) {
+    counters.cg_iterations += cg.negative_curvature ? 1 : 0;  // the product that found it
+    cg = m_solver.solve(m, m_matrix, m_lin, m_lin, m_lin0, h, m_rhs, m_dv, eta, o.cg_max_iterations,
+                        m_contacts);
+  }
+  // a stop at negative curvature still made that direction's product
+  counters.cg_iterations += cg.iterations + (cg.negative_curvature ? 1 : 0);
+  if (cg.relative_residual > eta && !cg.negative_curvature) ++counters.cg_unconverged;
+  m_dv = (m.free.array() > 0.0).select(m_dv, 0.0);
+  remove_normal_parts(m_contacts, m_dv);
+}
+
+void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_end, double h,
+                               Matrix3X& x, Matrix3X& v, Counters& counters) {
+  start_step(m, o, t_end, h, x, v);
+  counters.force_evals += 2;
+  m_residual = residual(m, h, m_v);
+  m_phi = objective(m, h, m_v);
+  m_history.clear();
+  m_history.push_back(m_phi);
+  const bool adaptive = o.cg_forcing == CgForcing::adaptive;
+  double eta = adaptive ? std::max(o.cg_tolerance, kForcingMax) : o.cg_tolerance;
+  double residual_before = m_residual;
+  // the tolerance is on the residual's acceleration, |M^-1 residual| / h, so that what a
+  // converged step leaves shrinks with the step (a velocity tolerance would leave its own
+  // error T tolerance over a run, whatever h)
+  const double velocity_tolerance = o.newton_tolerance * h;
+  for (int it = 0; it < o.newton_iterations && m_residual > velocity_tolerance; ++it) {
+    ++counters.newton_iterations;
+    if (adaptive && it > 0) {
+      eta = next_forcing(eta, m_residual / residual_before, o.cg_tolerance);
+      eta = forcing_for_tolerance(eta, m_residual, velocity_tolerance);
+    }
+    residual_before = m_residual;
+    newton_direction(m, o, h, eta, counters);
+    double slope = m_dv.cwiseProduct(m_rhs).sum();
+    // a step that does not descend (no clamp, or a failed solve): S M^-1 times -grad Phi
+    if (!(slope > 0.0)) {
+      for (int r = 0; r < 3; ++r) m_dv.row(r) = m_rhs.row(r).cwiseProduct(m.inv_mass.transpose());
+      remove_normal_parts(m_contacts, m_dv);
+      slope = m_dv.cwiseProduct(m_rhs).sum();
+    }
+    // a failed line search leaves m_v, so m_rhs and m_impulse still belong to it
+    if (!line_search(m, h, slope, counters)) break;
+    ++counters.force_evals;
+    m_residual = residual(m, h, m_v);
+    m_history.push_back(m_phi);
+  }
+  finish_contacts(x.cols());
+  // held axes have v = 0 exactly, so x stays x0 there
+  x = m_x0 + h * m_v;
+  v = m_v;
+}
+
+void ImplicitEulerNewton::finish_contacts(Eigen::Index particles) {
+  m_contact_work = 0.0;
+  m_contact_impulse.setZero();
+  m_released.assign(static_cast<size_t>(particles), 0);
+  for (size_t k = 0; k < m_contacts.size(); ++k) {
+    const ContactConstraint& c = m_contacts[k];
+    // the constraint force J / h over the step's displacement h v: J (n . v)
+    m_contact_work += m_impulse[k] * c.normal_velocity;
+    m_contact_impulse += m_impulse[k] * c.normal;
+    // a contact that pulled its particle in lets go next step
+    if (m_impulse[k] < 0.0) m_released[c.particle] = 1;
+  }
+}
+
+}  // namespace cloth

@@ -1,0 +1,92 @@
+#pragma once
+/// @file implicit_euler.hpp
+/// Backward Euler by Newton's method on the step's incremental potential, with a backtracking
+/// line search (the "optimisation integrator" view). In velocities v (x = x0 + h v):
+///
+///   Phi(v) = 1/2 |v - v0 - h g|_M^2 + E(x0 + h v) + h/2 (c sum_s (d0_s . (v_q - v_p))^2 + drag
+///   |v|^2)
+///
+/// E is the elastic energy, d0_s spring s's direction at the step's start. The last term is the
+/// Rayleigh potential of the spring dampers with their directions frozen at x0, the directions
+/// Baraff and Witkin's linearised step uses for D, so -grad Phi = h f(x, v) - M (v - v0) is the
+/// backward-Euler residual with that damper, and the Hessian is A = M + h drag - h D0 - h^2 K.
+/// The definiteness fix (clamp_compressed) changes only the matrix's K; Phi and its gradient are
+/// the true ones, so the equilibrium does not move. With the fix the Newton model is wrong
+/// wherever springs are compressed, and convergence there is only linear; so after the first
+/// clamped_iterations of a step the CG solvers apply the exact matrix, precondition with the
+/// clamped one, and stop at the first direction of negative curvature (truncated Newton: the
+/// iterate reached is still a descent direction), falling back to the clamped matrix's
+/// direction when that is the very first one.
+
+#include <memory>
+#include <vector>
+
+#include "cloth/model/model.hpp"
+#include "cloth/model/simulator.hpp"
+#include "cloth/solvers/implicit_matrix.hpp"
+#include "cloth/solvers/newton_linear_solver.hpp"
+#include "cloth/solvers/solver_options.hpp"
+
+namespace cloth {
+
+/// The smallest cloth (particles) for which `automatic` means two-level-cg.
+constexpr int kTwoLevelMinParticles = 48 * 48;
+
+/// The linear solver that `automatic` means for a line-search step on a cloth of that many
+/// particles: two-level-cg from kTwoLevelMinParticles up, block-jacobi-cg below (README).
+LinearSolver resolved_linear_solver(LinearSolver s, int particles);
+
+/// Newton with line search for one scene; scratch sized once.
+class ImplicitEulerNewton {
+ public:
+  ImplicitEulerNewton(const Model& m, const SolverOptions& o);
+
+  /// Advances x and v (each 3 by #P) by one backward-Euler step of h seconds that ends at
+  /// t_end (s), with contacts in the solve if o.contacts_in_solve.
+  void step(const Model& m, const SolverOptions& o, double t_end, double h, Matrix3X& x,
+            Matrix3X& v, Counters& counters);
+
+  /// Work of the last step's contact constraints (J, negative when they took energy out).
+  double contact_work() const { return m_contact_work; }
+  /// Impulse of the last step's contact constraints on the cloth (N s).
+  const Vector3& contact_impulse() const { return m_contact_impulse; }
+  /// The last step's contact constraints.
+  const std::vector<ContactConstraint>& contacts() const { return m_contacts; }
+  /// Their impulses along their normals (N s), in the same order.
+  const std::vector<double>& impulses() const { return m_impulse; }
+
+  /// Phi at the start and after each Newton iteration of the last step (J).
+  const std::vector<double>& objective_history() const { return m_history; }
+  /// Largest |M^-1 residual| after the last step (m/s).
+  double last_residual() const { return m_residual; }
+
+ private:
+  /// solver: o.linear_solver resolved (not automatic)
+  ImplicitEulerNewton(const Model& m, const SolverOptions& o, LinearSolver solver);
+  /// Sets the step's start, contacts, first guess and frozen damper directions.
+  void start_step(const Model& m, const SolverOptions& o, double t_end, double h, const Matrix3X& x,
+                  const Matrix3X& v);
+  /// Solves for m_dv, the filtered Newton direction at m_v, to relative residual eta.
+  void newton_direction(const Model& m, const SolverOptions& o, double h, double eta,
+                        Counters& counters);
+  /// Books the contacts' work and impulse and which contacts let go.
+  void finish_contacts(Eigen::Index particles);
+  double objective(const Model& m, double h, const Matrix3X& v);
+  double residual(const Model& m, double h, const Matrix3X& v);
+  bool line_search(const Model& m, double h, double slope, Counters& counters);
+
+  ImplicitMatrix m_matrix;
+  NewtonLinearSolver m_solver;
+  SpringLinearization m_lin0, m_lin, m_lin_exact;
+  Matrix3X m_x0, m_v0, m_v, m_x, m_trial, m_dv, m_force, m_damp, m_zero, m_buf, m_rhs;
+  std::vector<double> m_history;
+  std::vector<ContactConstraint> m_contacts;
+  std::vector<double> m_impulse;  // per contact, along its normal (N s)
+  std::vector<char> m_released;   // per particle: its last contact pulled it in
+  Vector3 m_contact_impulse = Vector3::Zero();
+  double m_contact_work = 0;
+  double m_phi = 0, m_residual = 0;
+  bool m_direct = false;  // ldlt: A assembled whole
+};
+
+}  // namespace cloth

@@ -1,0 +1,93 @@
+#pragma once
+/// @file mass_spring_cloth.hpp
+/// The custom mass-spring cloth engine: the report's model with eight integrators.
+
+#include <memory>
+#include "cloth/solvers/conjugate_gradient.hpp"
+
+#include "cloth/forces/spring_jacobians.hpp"
+#include "cloth/integrators/implicit_euler.hpp"
+#include "cloth/integrators/projective.hpp"
+#include "cloth/model/integrator.hpp"
+#include "cloth/model/model.hpp"
+#include "cloth/model/scene.hpp"
+#include "cloth/model/simulator.hpp"
+#include "cloth/model/types.hpp"
+#include "cloth/solvers/solver_options.hpp"
+
+namespace cloth {
+
+/// The custom engine. The state starts at rest in the scene's flat grid.
+class MassSpringCloth final : public Simulator {
+ public:
+  MassSpringCloth(const Scene& scene, const SolverOptions& options);
+
+  void step(double dt) override;
+  const Matrix3X& positions() const override { return m_x; }
+  const Matrix3X& velocities() const override { return m_v; }
+  double time() const override { return m_t; }
+  double dissipated() const override { return m_dissipated; }
+  /// Work of the contact projection and velocity response, booked exactly every step.
+  double contact_work() const override { return m_contact_work; }
+  Counters counters() const override { return m_counters; }
+  int contacts() const override { return m_contacts; }
+  Vector3 contact_impulse() const override { return m_contact_impulse; }
+
+  /// Replaces the state (tests start from chosen velocities). Held axes keep their values.
+  /// @param x  3 by #P positions (m)
+  /// @param v  3 by #P velocities (m/s)
+  void set_state(const Matrix3X& x, const Matrix3X& v);
+  const Model& model() const { return m_model; }
+  const SolverOptions& options() const { return m_options; }
+  /// The line-search Newton solver of implicit Euler; null in the other modes.
+  const ImplicitEulerNewton* newton() const { return m_newton.get(); }
+
+  /// Accelerations at state (x, v), held axes zeroed; counts one force evaluation.
+  /// @param a  3 by #P accelerations (m/s^2), written
+  /// @return power dissipated by dampers and drag at that state (W)
+  double accelerations(const Matrix3X& x, const Matrix3X& v, Matrix3X& a);
+
+ private:
+  /// One step of the integrator alone.
+  void integrate(double h);
+  /// One classic Runge-Kutta step; returns the energy the dampers and drag took out (J).
+  double step_rk4(double h);
+  void step_implicit_euler(double h);
+  void step_imex_euler(double h);
+  /// Particles the line-search solve held on a collider with a pushing impulse that the
+  /// contact pass after it did not count (m_touched).
+  int held_in_solve_only() const;
+  /// Resolves collider contacts after a step and books their work in m_contact_work.
+  void resolve_contacts(double h);
+  /// Gives the handle particles their path's velocity over the next step of h seconds.
+  void start_handles(double h);
+  /// Puts the handle particles exactly on their path at the step's end.
+  void finish_handles(double h);
+  /// Power (W) of the handles' holder at the current state; counts a force evaluation.
+  double handle_power();
+
+  Model m_model;
+  SolverOptions m_options;
+  Matrix3X m_x, m_v;
+  double m_t = 0;
+  double m_dissipated = 0;    // J, dampers and drag
+  double m_contact_work = 0;  // J, net work of the contact response and the handles
+  int m_contacts = 0;         // particle-collider contacts of the last contact pass
+  Vector3 m_contact_impulse = Vector3::Zero();  // N s, the colliders' impulse so far
+  Counters m_counters;
+
+  // scratch, sized once
+  Matrix3X m_force, m_buf;
+  Matrix3X m_x1, m_v1;                  // stage states
+  Matrix3X m_x_start;                   // positions at the step's start (scenes with shapes)
+  Matrix3X m_k1, m_k2, m_k3, m_k4;      // stage accelerations
+  Matrix3X m_rhs, m_dv, m_diag, m_tmp;  // implicit solve
+  SpringLinearization m_lin;
+  CgWorkspace m_cg;
+  std::unique_ptr<ImplicitEulerNewton> m_newton;   // implicit-euler with newton = line-search
+  std::unique_ptr<ProjectiveSolver> m_projective;  // projective
+  std::vector<char> m_touched;  // line-search: particles the last contact pass counted
+  VectorX m_lambda;             // xpbd: the springs' multipliers
+};
+
+}  // namespace cloth

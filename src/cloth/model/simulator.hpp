@@ -1,0 +1,58 @@
+#pragma once
+/// @file simulator.hpp
+/// The interface every engine implements: the custom cloth and each Bullet adapter alike.
+
+#include <cmath>
+#include <cstdint>
+#include <string>
+
+#include "cloth/model/types.hpp"
+
+namespace cloth {
+
+/// Machine-independent cost of a run.
+struct Counters {
+  std::int64_t steps = 0;
+  std::int64_t force_evals = 0;    // full force evaluations
+  std::int64_t cg_iterations = 0;  // conjugate-gradient iterations (implicit solvers)
+  std::int64_t newton_iterations = 0;
+  std::int64_t contact_tests = 0;           // particle-sphere distance tests
+  std::int64_t cg_unconverged = 0;          // linear solves that stopped at the iteration limit
+  std::int64_t constraint_projections = 0;  // xpbd: one spring constraint projected once
+  std::int64_t linear_solves = 0;           // projective: prefactored global solves (3 axes each)
+};
+
+/// One engine running one scene. Particle order, masses and units are the scene's.
+class Simulator {
+ public:
+  virtual ~Simulator() = default;
+  /// Advances the state by dt seconds.
+  virtual void step(double dt) = 0;
+  /// 3 by #P positions (m).
+  virtual const Matrix3X& positions() const = 0;
+  /// 3 by #P velocities (m/s).
+  virtual const Matrix3X& velocities() const = 0;
+  /// Simulated time (s).
+  virtual double time() const = 0;
+  /// Energy taken out by the spring dampers and air drag since the start (J).
+  virtual double dissipated() const = 0;
+  /// Net work of the contact response since the start (J): the energy it added (lifting
+  /// particles out of an obstacle against gravity and springs) minus the energy it removed
+  /// (the normal velocity it cancels, friction), and the work of the handles' holder;
+  /// 0 for an engine that cannot separate it.
+  virtual double contact_work() const { return 0.0; }
+  /// Particle-collider contacts (particles within a collider's shell) at the last step; -1 for
+  /// an engine that cannot say.
+  virtual int contacts() const { return -1; }
+  /// Impulse the colliders have given the cloth since the start (N s); NaN for an engine that
+  /// cannot say.
+  virtual Vector3 contact_impulse() const { return Vector3::Constant(NAN); }
+  /// Energy change the engine's books cannot attribute (J): for a Bullet engine, the whole
+  /// energy balance of the steps in which a contact acted (its contact work and its scheme's
+  /// error in that step, which Bullet does not report apart); 0 for the custom engine.
+  virtual double unbooked() const { return 0.0; }
+  /// Cost so far.
+  virtual Counters counters() const = 0;
+};
+
+}  // namespace cloth

@@ -1,0 +1,583 @@
+#include "harness/gate/regression_check.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <optional>
+#include <set>
+#include <sstream>
+#include <stdexcept>
+
+#include "harness/gate/tolerances_file.hpp"
+#include "harness/io/csv_reader.hpp"
+#include "harness/io/csv_writer.hpp"
+#include "harness/io/output_schema.hpp"
+#include "harness/io/text_file.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/run/runner.hpp"
+#include "harness/scenario/scenario_loader.hpp"
+#include "harness/sweeps/stability_sweep.hpp"
+#include "harness/sweeps/sweep.hpp"
+
+namespace clothbench {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string read_file(const fs::path& p) {
+  return read_existing_text(p.string());
+}
+
+// throws, naming the file, when tolerances name an engine the scenario does not have or ask
+// for a mirror image of a grid one particle wide
+void check_tolerance_engines(const Tolerances& t, const Scenario& sc, const fs::path& p) {
+  auto has = [&](const std::string& name) {
+    return std::any_of(sc.engines.begin(), sc.engines.end(),
+                       [&](const EngineSpec& e) { return e.name == name; });
+  };
+  for (const auto& [engine, q] : t.ungated)
+    if (!has(engine))
+      throw UserError(p.string() + ": [ungated." + engine + "] names an engine " + sc.name +
+                      " does not have");
+  for (const std::string& engine : t.mirrored)
+    if (!has(engine))
+      throw UserError(p.string() + ": [mirror] names engine " + engine + ", which " + sc.name +
+                      " does not have");
+  if (!t.mirrored.empty() && sc.scene.cloth.nu < 2)
+    throw UserError(p.string() + ": [mirror] needs a grid at least 2 particles wide");
+}
+
+// why a quantity is not gated for engines of a kind (empty: it is gated)
+std::string ungated_reason(EngineKind kind, const std::string& quantity) {
+  const EngineKindInfo& info = engine_kind_info(kind);
+  if (!info.energy_gated && quantity == "max_energy_error")
+    return std::string("not gated: ") + info.energy_note;
+  return "";
+}
+
+// the figures of one engine's run that metrics.csv records
+std::map<std::string, double> run_metrics(const RunResult& r, size_t i) {
+  const EngineRun& run = r.runs[i];
+  const std::vector<Divergence>& d = r.divergence[i];
+  double worst = 0;
+  for (const Divergence& x : d) worst = std::max(worst, x.rms_distance);
+  return {{"stable", run.stable ? 1.0 : 0.0},
+          {"steps", double(run.counters.steps)},
+          {"force_evals", double(run.counters.force_evals)},
+          {"cg_iterations", double(run.counters.cg_iterations)},
+          {"max_energy_error", run.max_energy_error},
+          {"final_rms_vs_reference", d.empty() ? NAN : d.back().rms_distance},
+          {"max_rms_vs_reference", d.empty() ? NAN : worst},
+          {"drape_coefficient", final_drape_coefficient(r, run)},
+          {"final_com_y", run.frames.back().com.y()}};
+}
+
+using Metrics = std::map<std::string, double>;  // by "engine/quantity"
+using Shapes = std::map<std::string, cloth::Matrix3X>;
+
+// a baseline's stability limits: the search's bracket [stable_dt, first_unstable_dt)
+struct Bracket {
+  double stable_dt = 0;          // s, found stable
+  double first_unstable_dt = 0;  // s, found unstable (infinity: none up to dt_max)
+};
+using Brackets = std::map<std::string, Bracket>;  // by "engine/integrator"
+
+// the baseline files' columns (output_schema.cpp), as written and as read back
+const std::vector<std::string> kMetricsHeader = output_header("baselines/metrics.csv");
+const std::vector<std::string> kShapeHeader = output_header("baselines/shape.csv");
+const std::vector<std::string> kStabilityHeader = output_header("baselines/stability.csv");
+
+Metrics read_metrics(const fs::path& p) {
+  Metrics m;
+  for (const CsvRecord& r : read_csv(p.string(), kMetricsHeader).records)
+    m[r.text(0) + "/" + r.text(1)] = r.number(2, NAN);
+  return m;
+}
+
+// every engine's final shape, 3 by #P (NaN for particles the file leaves out)
+Shapes read_shapes(const fs::path& p, const cloth::Model& model) {
+  Shapes shapes;
+  const Eigen::Index np = model.particle_count();
+  for (const CsvRecord& r : read_csv(p.string(), kShapeHeader).records) {
+    auto& m = shapes[r.text(0)];
+    if (m.cols() == 0) m = cloth::Matrix3X::Constant(3, np, NAN);
+    const long i = std::lround(r.number(1, NAN)), j = std::lround(r.number(2, NAN));
+    if (i < 0 || i >= model.nu || j < 0 || j >= model.nv)
+      throw UserError(p.string() + ":" + std::to_string(r.line()) + ": particle (" + r.text(1) +
+                      ", " + r.text(2) + ") outside the " + std::to_string(model.nu) + " x " +
+                      std::to_string(model.nv) + " grid");
+    for (int a = 0; a < 3; ++a) m(a, j * model.nu + i) = r.number(size_t(3 + a), NAN);
+  }
+  return shapes;
+}
+
+Brackets read_brackets(const fs::path& p) {
+  Brackets b;
+  for (const CsvRecord& r : read_csv(p.string(), kStabilityHeader).records)
+    b[r.text(0) + "/" + r.text(1)] = {r.number(2, NAN), r.number(3, NAN)};
+  return b;
+}
+
+Brackets brackets_of(const std::vector<StabilityRow>& rows) {
+  Brackets b;
+  for (const StabilityRow& r : rows)
+    b[r.engine + "/" + r.integrator] = {r.stable_dt, r.first_unstable_dt};
+  return b;
+}
+
+// the scene's left-right mirror image of a 3 by #P shape: reflected across the plane through
+// the cloth's rest centre normal to its grid's u axis, particle (i, j) taking the place of
+// (nu - 1 - i, j)
+cloth::Matrix3X mirror_image(const cloth::Matrix3X& x, const cloth::Model& m) {
+  const cloth::Vector3 c = m.x0.rowwise().mean();
+  const cloth::Vector3 u = (m.x0.col(1) - m.x0.col(0)).normalized();
+  cloth::Matrix3X y(3, x.cols());
+  for (int j = 0; j < m.nv; ++j)
+    for (int i = 0; i < m.nu; ++i) {
+      const cloth::Vector3 q = x.col(j * m.nu + (m.nu - 1 - i));
+      y.col(j * m.nu + i) = q - 2.0 * (q - c).dot(u) * u;
+    }
+  return y;
+}
+
+// RMS over particles of the distance between two shapes (m)
+double shape_rms(const cloth::Matrix3X& a, const cloth::Matrix3X& b) {
+  return std::sqrt((a - b).colwise().squaredNorm().mean());
+}
+
+// the engine part of a "engine/quantity" key
+std::string engine_of(const std::string& key) {
+  return key.substr(0, key.rfind('/'));
+}
+
+void write_baseline(const fs::path& dir, const RunResult& result,
+                    const std::vector<StabilityRow>* stability, PendingBaselines& pending) {
+  make_directories(dir.string());
+  auto metrics = std::make_unique<CsvWriter>((dir / "metrics.csv").string(), kMetricsHeader);
+  for (size_t i = 0; i < result.runs.size(); ++i)
+    for (const auto& [q, v] : run_metrics(result, i))
+      metrics->add(result.runs[i].spec.name).add(q).add(v).end_row();
+  auto shape = std::make_unique<CsvWriter>((dir / "shape.csv").string(), kShapeHeader);
+  for (const EngineRun& run : result.runs) {
+    const cloth::Matrix3X& x = run.snapshots.back();
+    for (Eigen::Index p = 0; p < x.cols(); ++p)
+      shape->add(run.spec.name)
+          .add(int(p % result.model.nu))
+          .add(int(p / result.model.nu))
+          .add(x(0, p))
+          .add(x(1, p))
+          .add(x(2, p))
+          .end_row();
+  }
+  pending.add(std::move(metrics));
+  pending.add(std::move(shape));
+  if (stability) {
+    auto st = std::make_unique<CsvWriter>((dir / "stability.csv").string(), kStabilityHeader);
+    for (const StabilityRow& r : *stability)
+      st->add(r.engine).add(r.integrator).add(r.stable_dt).add(r.first_unstable_dt).end_row();
+    pending.add(std::move(st));
+  } else {
+    // limits no longer searched must not linger as a baseline nobody checks
+    pending.remove_on_commit((dir / "stability.csv").string());
+  }
+}
+
+// what --update changed: metrics, final shapes (RMS per engine) and stability limits
+std::vector<Gate> changes(const std::string& scenario, const Metrics& old_metrics,
+                          const Shapes& old_shapes, const Brackets& old_brackets,
+                          const RunResult& result, const Brackets& now_brackets) {
+  std::vector<Gate> gates;
+  auto change = [&](const std::string& engine, const std::string& quantity, double before,
+                    double after, const std::string& note) {
+    const double d = std::isinf(before) && before == after ? 0.0 : std::abs(after - before);
+    gates.push_back({scenario, engine, quantity, before, after, d, NAN, true, note, "-"});
+  };
+  auto same = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };
+  // metrics, and engines that are no longer run
+  std::set<std::string> now_engines;
+  for (size_t i = 0; i < result.runs.size(); ++i) {
+    const std::string& engine = result.runs[i].spec.name;
+    now_engines.insert(engine);
+    for (const auto& [q, v] : run_metrics(result, i)) {
+      const auto it = old_metrics.find(engine + "/" + q);
+      if (it == old_metrics.end())
+        change(engine, q, NAN, v, "new");
+      else if (!same(it->second, v))
+        change(engine, q, it->second, v, "updated");
+    }
+  }
+  std::set<std::string> removed;
+  for (const auto& [key, v] : old_metrics)
+    if (!now_engines.count(engine_of(key))) removed.insert(engine_of(key));
+  for (const auto& [engine, x] : old_shapes)
+    if (!now_engines.count(engine)) removed.insert(engine);
+  for (const std::string& engine : removed) change(engine, "ran", 1, 0, "removed");
+  // how far each final shape moved
+  for (const EngineRun& run : result.runs) {
+    const auto it = old_shapes.find(run.spec.name);
+    if (it == old_shapes.end()) continue;
+    const double rms = shape_rms(run.snapshots.back(), it->second);
+    if (!(rms == 0.0)) change(run.spec.name, "final_shape_rms", 0.0, rms, "moved");
+  }
+  // stability limits
+  for (const auto& [key, b] : now_brackets) {
+    const auto it = old_brackets.find(key);
+    if (it == old_brackets.end()) {
+      change(key, "stable_dt", NAN, b.stable_dt, "new");
+      change(key, "first_unstable_dt", NAN, b.first_unstable_dt, "new");
+      continue;
+    }
+    if (!same(it->second.stable_dt, b.stable_dt))
+      change(key, "stable_dt", it->second.stable_dt, b.stable_dt, "updated");
+    if (!same(it->second.first_unstable_dt, b.first_unstable_dt))
+      change(key, "first_unstable_dt", it->second.first_unstable_dt, b.first_unstable_dt,
+             "updated");
+  }
+  for (const auto& [key, b] : old_brackets)
+    if (!now_brackets.count(key)) change(key, "stable_dt", b.stable_dt, NAN, "removed");
+  return gates;
+}
+
+const char* kToleranceTemplate =
+    R"(# How far each gated quantity may move before `clothbench check` fails, as
+# allowed = abs + rel * |baseline|. GENERATED DEFAULTS: replace every reason below with what
+# you measured on this scenario (the spread between builds with different -march flags, or
+# between runs), and make each width no wider than that. An unchanged build reproduces its
+# baseline to the last bit: the widths only absorb round-off differences between compilers
+# and CPUs.
+
+# RMS distance (m) between the final shape and the recorded one, per engine
+final_shape_rms = { abs = 1e-6 }
+# exact facts of the run
+stable = { abs = 0 }
+steps = { abs = 0 }
+force_evals = { abs = 0 }
+cg_iterations = { abs = 0 }
+# energies and distances (J, m), plus a floor for values near zero
+max_energy_error = { rel = 1e-3, abs = 1e-9 }
+final_rms_vs_reference = { rel = 1e-3, abs = 1e-9 }
+max_rms_vs_reference = { rel = 1e-3, abs = 1e-9 }
+final_com_y = { abs = 1e-6 }
+drape_coefficient = { abs = 1e-4 }
+)";
+
+}  // namespace
+
+ScratchFolder::ScratchFolder(const std::string& prefix) {
+  const std::string pattern = (fs::temp_directory_path() / (prefix + "XXXXXX")).string();
+  std::vector<char> name(pattern.begin(), pattern.end());
+  name.push_back('\0');
+  if (!::mkdtemp(name.data()))
+    throw UserError("cannot create a temporary folder " + pattern + ": " + std::strerror(errno));
+  m_path = name.data();
+}
+
+ScratchFolder::~ScratchFolder() {
+  std::error_code ignored;  // nothing sensible to do about a folder that will not go
+  fs::remove_all(m_path, ignored);
+}
+
+namespace {
+
+/// What a check compares: the scenario, its baseline folder and its tolerances.
+struct CheckPlan {
+  Scenario sc;
+  fs::path dir;  // the scenario's baseline folder
+  Tolerances tol;
+  fs::path metrics_path() const { return dir / "metrics.csv"; }
+  fs::path shape_path() const { return dir / "shape.csv"; }
+  fs::path stability_path() const { return dir / "stability.csv"; }
+};
+
+/// What the scenario does now: its run, and its stability limits when they are gated.
+struct CheckRun {
+  RunResult result;
+  std::vector<StabilityRow> stability;
+  Brackets brackets;
+};
+
+/// Refuses a perturbed update, loads the scenario and its tolerances (writing the template
+/// first for a new baseline).
+CheckPlan plan_check(const std::string& scenario_path, const CheckOptions& o) {
+  // std::invalid_argument, not UserError: the regression tests expect this type
+  if (o.update && !o.overrides.empty() && !o.record_perturbed)
+    throw UserError(
+        "--update with --set would record a perturbed engine as the baseline, which then hides "
+        "the very change it should catch; drop the --set overrides, or add --record-perturbed "
+        "if a perturbed baseline is what you mean");
+  CheckPlan plan{load_scenario(scenario_path, o.overrides), {}, {}};
+  plan.sc.max_run_seconds = o.max_run_seconds;
+  plan.dir = fs::path(o.baseline_dir) / plan.sc.name;
+  const fs::path tol_path = plan.dir / "tolerances.toml";
+  if (o.update && !fs::exists(tol_path)) {
+    make_directories(plan.dir.string());
+    AtomicFile f(tol_path.string());
+    f.write(kToleranceTemplate);
+    f.commit();
+  }
+  if (!fs::exists(tol_path))
+    throw UserError("no baseline for scenario " + plan.sc.name + ": " + tol_path.string() +
+                    " is missing (record one with clothbench check --update)");
+  plan.tol = read_tolerances(tol_path);
+  check_tolerance_engines(plan.tol, plan.sc, tol_path);
+  return plan;
+}
+
+CheckRun run_check(const CheckPlan& plan, const CheckOptions& o) {
+  CheckRun now;
+  RunOptions ro;
+  ro.progress = o.progress;
+  now.result = run_scenario(plan.sc, ro);
+  if (plan.tol.stability) {
+    // the search writes its table to a folder of its own, gone on every way out of this block
+    const ScratchFolder scratch("clothbench-check-" + plan.sc.name + "-");
+    StabilityOptions so;
+    so.out_dir = scratch.path();
+    so.engines = {plan.tol.stability_engine};
+    so.integrators = plan.tol.stability_integrators;
+    so.rel_tol = plan.tol.stability_rel_tol;
+    so.jobs = o.jobs;
+    so.progress = o.progress;
+    now.stability = run_stability(plan.sc, so);
+  }
+  now.brackets = brackets_of(now.stability);
+  return now;
+}
+
+/// --update: records the baseline and reports what changed against the previous one.
+std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now, const CheckOptions& o) {
+  const Metrics old_metrics =
+      fs::exists(plan.metrics_path()) ? read_metrics(plan.metrics_path()) : Metrics();
+  Shapes old_shapes;
+  std::string grid_changed;
+  try {
+    if (fs::exists(plan.shape_path()))
+      old_shapes = read_shapes(plan.shape_path(), now.result.model);
+  } catch (const UserError& e) {
+    grid_changed = e.what();  // a grid of another size: no shape to compare with
+  }
+  const Brackets old_brackets =
+      fs::exists(plan.stability_path()) ? read_brackets(plan.stability_path()) : Brackets();
+  PendingBaselines own;
+  write_baseline(plan.dir, now.result, plan.tol.stability ? &now.stability : nullptr,
+                 o.pending ? *o.pending : own);
+  own.commit();
+  std::vector<Gate> gates =
+      changes(plan.sc.name, old_metrics, old_shapes, old_brackets, now.result, now.brackets);
+  if (!grid_changed.empty())
+    gates.push_back({plan.sc.name, "", "final_shape_rms", NAN, NAN, NAN, NAN, true,
+                     "previous shapes not comparable: " + grid_changed, "-"});
+  return gates;
+}
+
+/// The gates of one scenario, added as the comparison goes.
+class GateList {
+ public:
+  explicit GateList(std::string scenario) : m_scenario(std::move(scenario)) {}
+
+  /// A gated quantity: passes when within allowed (or missing on both sides).
+  void gate(const std::string& engine, const std::string& quantity, double base, double now,
+            double allowed, double difference) {
+    Gate g{m_scenario, engine, quantity, base, now, difference, allowed, true, "", ""};
+    const bool both_nan = std::isnan(base) && std::isnan(now);
+    g.pass = both_nan || difference <= allowed;
+    if (!g.pass) g.note = std::isnan(difference) ? "one side is missing" : "moved";
+    m_gates.push_back(g);
+  }
+  /// A quantity that fails whatever its value, for the reason why.
+  void fail(const std::string& engine, const std::string& quantity, double base, double now,
+            const std::string& why) {
+    m_gates.push_back({m_scenario, engine, quantity, base, now, NAN, 0, false, why, ""});
+  }
+  /// A quantity shown for the record only.
+  void ungated(const std::string& engine, const std::string& quantity, double base, double now,
+               double difference, const std::string& why) {
+    m_gates.push_back(
+        {m_scenario, engine, quantity, base, now, difference, NAN, true, why, "-", false});
+  }
+  void add(const Gate& g) { m_gates.push_back(g); }
+  const std::string& scenario() const { return m_scenario; }
+  std::vector<Gate>& gates() { return m_gates; }
+
+ private:
+  std::string m_scenario;
+  std::vector<Gate> m_gates;
+};
+
+/// Every engine recorded must have run and every one that ran must have a baseline; returns
+/// the recorded ones.
+std::set<std::string> compare_engines(const Metrics& base, const Shapes& shapes,
+                                      const RunResult& result, GateList& gates) {
+  std::set<std::string> recorded, ran;
+  for (const auto& [key, v] : base) recorded.insert(engine_of(key));
+  for (const auto& [engine, x] : shapes) recorded.insert(engine);
+  for (const EngineRun& run : result.runs) ran.insert(run.spec.name);
+  for (const std::string& engine : recorded)
+    if (!ran.count(engine))
+      gates.fail(engine, "ran", 1, 0, "recorded in the baseline but did not run");
+  for (const std::string& engine : ran)
+    if (!recorded.count(engine))
+      gates.fail(engine, "ran", 0, 1, "ran but has no baseline (record one with --update)");
+  return recorded;
+}
+
+void compare_metrics(const Metrics& base, const std::set<std::string>& recorded,
+                     const Tolerances& tol, const RunResult& result, GateList& gates) {
+  for (size_t i = 0; i < result.runs.size(); ++i) {
+    const EngineSpec& spec = result.runs[i].spec;
+    if (!recorded.count(spec.name)) continue;
+    const auto now = run_metrics(result, i);
+    for (const std::string& q : kMetricQuantities) {
+      const auto it = base.find(spec.name + "/" + q);
+      if (it == base.end()) {
+        gates.fail(spec.name, q, NAN, now.at(q), "not in the baseline");
+        continue;
+      }
+      const double b = it->second, v = now.at(q);
+      const auto listed = tol.ungated.find(spec.name);
+      const std::string why = listed != tol.ungated.end() && listed->second.count(q)
+                                  ? "not gated: " + listed->second.at(q)
+                                  : ungated_reason(spec.kind, q);
+      if (!why.empty())
+        gates.ungated(spec.name, q, b, v, std::abs(v - b), why);
+      else
+        gates.gate(spec.name, q, b, v, tol.quantity.at(q).allowed(b), std::abs(v - b));
+    }
+  }
+}
+
+void compare_shapes(const Shapes& shapes, const std::set<std::string>& recorded,
+                    const Tolerances& tol, const RunResult& result, GateList& gates) {
+  for (const EngineRun& run : result.runs) {
+    if (!recorded.count(run.spec.name)) continue;
+    const auto it = shapes.find(run.spec.name);
+    if (it == shapes.end()) {
+      gates.fail(run.spec.name, "final_shape_rms", NAN, NAN, "no shape in the baseline");
+      continue;
+    }
+    double rms = shape_rms(run.snapshots.back(), it->second);
+    const auto listed = tol.ungated.find(run.spec.name);
+    if (listed != tol.ungated.end() && listed->second.count("final_shape_rms")) {
+      gates.ungated(run.spec.name, "final_shape_rms", 0.0, rms, rms,
+                    "not gated: " + listed->second.at("final_shape_rms"));
+      continue;
+    }
+    bool mirrored = false;
+    if (tol.mirrored.count(run.spec.name)) {
+      // the engine may pick either side of the scene's symmetry: the nearer image counts
+      const double m = shape_rms(run.snapshots.back(), mirror_image(it->second, result.model));
+      mirrored = m < rms;
+      rms = std::min(rms, m);
+    }
+    gates.gate(run.spec.name, "final_shape_rms", 0.0, rms,
+               tol.quantity.at("final_shape_rms").allowed(0.0), rms);
+    if (mirrored && gates.gates().back().pass) gates.gates().back().note = "to the mirror image";
+  }
+}
+
+/// The two gates of one stability limit: the recorded search found the limit in
+/// [stable_dt, first_unstable_dt); the same search now must bracket a limit that can be the
+/// same one, so the two half-open brackets must overlap (an adjacent bracket means the run at
+/// the shared dt changed verdict).
+void compare_bracket(const std::string& key, const Bracket& b, const Bracket& n, bool adjacent,
+                     GateList& gates) {
+  const std::string miss =
+      "now [" + format_double(n.stable_dt) + ", " + format_double(n.first_unstable_dt) +
+      ") misses [" + format_double(b.stable_dt) + ", " + format_double(b.first_unstable_dt) + ")";
+  // both ends fail together: the two brackets cannot hold the same limit (with adjacent,
+  // brackets that share an end may: the run at that dt turned the other way)
+  const bool overlap =
+      adjacent ? n.stable_dt <= b.first_unstable_dt && b.stable_dt <= n.first_unstable_dt
+               : n.stable_dt < b.first_unstable_dt && b.stable_dt < n.first_unstable_dt;
+  gates.add({gates.scenario(), key, "stable_dt", b.stable_dt, n.stable_dt,
+             std::abs(n.stable_dt - b.stable_dt), NAN, overlap, overlap ? "" : miss,
+             "< " + format_double(b.first_unstable_dt)});
+  const double d = std::isinf(b.first_unstable_dt) && b.first_unstable_dt == n.first_unstable_dt
+                       ? 0.0
+                       : std::abs(n.first_unstable_dt - b.first_unstable_dt);
+  gates.add({gates.scenario(), key, "first_unstable_dt", b.first_unstable_dt, n.first_unstable_dt,
+             d, NAN, overlap, overlap ? "" : miss, "> " + format_double(b.stable_dt)});
+}
+
+void compare_stability(const CheckPlan& plan, const Brackets& now, GateList& gates) {
+  const fs::path stpath = plan.stability_path();
+  const Brackets recorded = fs::exists(stpath) ? read_brackets(stpath) : Brackets();
+  if (!plan.tol.stability) {
+    for (const auto& [key, b] : recorded)
+      gates.fail(key, "stable_dt", b.stable_dt, NAN,
+                 "recorded, but tolerances.toml has no [stability] table to search it");
+    return;
+  }
+  if (!fs::exists(stpath)) read_file(stpath);  // throws, naming the missing file
+  for (const auto& [key, b] : recorded)
+    if (!now.count(key))
+      gates.fail(key, "stable_dt", b.stable_dt, NAN, "recorded in the baseline but not searched");
+  for (const auto& [key, n] : now) {
+    const auto it = recorded.find(key);
+    if (it == recorded.end())
+      gates.fail(key, "stable_dt", NAN, n.stable_dt, "searched but has no baseline");
+    else
+      compare_bracket(key, it->second, n, plan.tol.stability_adjacent, gates);
+  }
+}
+
+/// Compares the run now with the recorded baseline, gate by gate.
+std::vector<Gate> compare(const CheckPlan& plan, const CheckRun& now) {
+  GateList gates(plan.sc.name);
+  const Metrics base = read_metrics(plan.metrics_path());
+  const Shapes shapes = read_shapes(plan.shape_path(), now.result.model);
+  const std::set<std::string> recorded = compare_engines(base, shapes, now.result, gates);
+  compare_metrics(base, recorded, plan.tol, now.result, gates);
+  compare_shapes(shapes, recorded, plan.tol, now.result, gates);
+  compare_stability(plan, now.brackets, gates);
+  return std::move(gates.gates());
+}
+
+}  // namespace
+
+std::vector<Gate> check_scenario(const std::string& scenario_path, const CheckOptions& o) {
+  const CheckPlan plan = plan_check(scenario_path, o);
+  const CheckRun now = run_check(plan, o);
+  return o.update ? record(plan, now, o) : compare(plan, now);
+}
+
+void PendingBaselines::commit() {
+  for (const std::unique_ptr<CsvWriter>& f : m_files) f->commit();
+  for (const std::string& path : m_removals) fs::remove(path);
+  m_files.clear();
+  m_removals.clear();
+}
+
+std::string format_gates(const std::vector<Gate>& gates) {
+  std::ostringstream o;
+  char line[512];
+  std::snprintf(line, sizeof line, "%-18s %-32s %-22s %14s %14s %11s %11s  %s\n", "scenario",
+                "engine", "quantity", "baseline", "now", "difference", "allowed", "verdict");
+  o << line;
+  for (const Gate& g : gates) {
+    auto num = [](double v) {
+      char b[32];
+      std::snprintf(b, sizeof b, "%.6g", v);
+      return std::string(b);
+    };
+    const std::string allowed = g.allowed_text.empty() ? num(g.allowed) : g.allowed_text;
+    std::snprintf(line, sizeof line, "%-18s %-32s %-22s %14s %14s %11s %11s  %s\n",
+                  g.scenario.c_str(), g.engine.c_str(), g.quantity.c_str(), num(g.baseline).c_str(),
+                  num(g.now).c_str(), num(g.difference).c_str(), allowed.c_str(),
+                  (g.note.empty() ? std::string(g.pass ? "ok" : "FAIL")
+                                  : std::string(g.pass ? "" : "FAIL: ") + g.note)
+                      .c_str());
+    o << line;
+  }
+  return o.str();
+}
+
+}  // namespace clothbench

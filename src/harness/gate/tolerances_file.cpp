@@ -1,0 +1,168 @@
+#include "harness/gate/tolerances_file.hpp"
+
+#include <toml++/toml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "harness/io/text_file.hpp"
+#include "harness/io/toml_text.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_format.hpp"
+
+namespace clothbench {
+
+namespace fs = std::filesystem;
+
+const std::vector<std::string> kMetricQuantities = {"stable",
+                                                    "steps",
+                                                    "force_evals",
+                                                    "cg_iterations",
+                                                    "max_energy_error",
+                                                    "final_rms_vs_reference",
+                                                    "max_rms_vs_reference",
+                                                    "drape_coefficient",
+                                                    "final_com_y"};
+
+namespace {
+
+std::string read_tolerance_text(const fs::path& p) {
+  return read_existing_text(p.string());
+}
+
+/// "FILE:LINE: KEY: " for a message about the node at key.
+std::string where_in(const fs::path& p, const toml::node& node, const std::string& key) {
+  return p.string() + ":" + std::to_string(node.source().begin.line) + ": " + key + ": ";
+}
+
+/// Throws, naming file, line and key, when tab has a key outside known.
+void require_known_keys(const fs::path& p, const toml::table& tab, const std::string& prefix,
+                        const std::vector<std::string>& known) {
+  for (const auto& [key, node] : tab) {
+    const std::string name(key.str());
+    if (std::find(known.begin(), known.end(), name) != known.end()) continue;
+    std::string list;
+    for (const std::string& k : known) list += (list.empty() ? "" : ", ") + k;
+    throw UserError(where_in(p, node, prefix + name) + "unknown key (expected one of " + list +
+                    ")");
+  }
+}
+
+/// The number at tab[key] (fallback when missing); throws, naming file, line and key, for
+/// anything but a finite number >= 0 (written so that NaN fails).
+double non_negative(const fs::path& p, const toml::table& tab, const std::string& key,
+                    const std::string& prefix, double fallback) {
+  const toml::node* node = tab.get(key);
+  if (!node) return fallback;
+  const std::optional<double> v = node->value<double>();
+  if (!v || !std::isfinite(*v) || !(*v >= 0))
+    throw UserError(where_in(p, *node, prefix + key) + "expected a finite number >= 0, got " +
+                    describe(*node));
+  return *v;
+}
+
+/// The array of strings at node; throws, naming file and key, for anything else.
+std::vector<std::string> strings_at(const fs::path& p, toml::node_view<const toml::node> node,
+                                    const std::string& where) {
+  std::vector<std::string> out;
+  const toml::array* a = node.as_array();
+  if (!a) throw UserError(p.string() + ": " + where + ": expected an array of strings");
+  for (const auto& v : *a) {
+    if (!v.is_string()) throw UserError(where_in(p, v, where) + "expected an array of strings");
+    out.push_back(v.value_or(std::string()));
+  }
+  return out;
+}
+
+/// An array of integrator names, parsed.
+std::vector<cloth::Integrator> integrators_at(const fs::path& p,
+                                              toml::node_view<const toml::node> node,
+                                              const std::string& where) {
+  std::vector<cloth::Integrator> out;
+  const std::vector<std::string> names = strings_at(p, node, where);
+  for (size_t k = 0; k < names.size(); ++k) {
+    const auto i = cloth::parse_integrator(names[k]);
+    if (!i)
+      throw UserError(where_in(p, *node.as_array()->get(k), where) + "expected one of " +
+                      join(integrator_names(), "\"") + ", got \"" + names[k] + "\"");
+    out.push_back(*i);
+  }
+  return out;
+}
+
+/// [stability]: which searches to gate and how.
+void read_stability_table(const fs::path& p, const toml::table& s, Tolerances& t) {
+  require_known_keys(p, s, "stability.", {"engine", "integrators", "rel_tol", "adjacent"});
+  t.stability = true;
+  t.stability_engine = s["engine"].value_or(std::string());
+  t.stability_rel_tol = non_negative(p, s, "rel_tol", "stability.", 0.02);
+  if (!(t.stability_rel_tol > 0))
+    throw UserError(where_in(p, *s.get("rel_tol"), "stability.rel_tol") + "expected a number > 0");
+  t.stability_adjacent = s["adjacent"].value_or(false);
+  if (s.contains("integrators"))
+    t.stability_integrators = integrators_at(p, s["integrators"], "stability.integrators");
+}
+
+/// [ungated.<engine>]: quantities not gated for that engine, with the reason.
+void read_ungated_table(const fs::path& p, const toml::table& u,
+                        const std::vector<std::string>& known, Tolerances& t) {
+  for (const auto& [engine_key, node] : u) {
+    const std::string engine(engine_key.str()), where = "ungated." + engine;
+    const toml::table* e = node.as_table();
+    if (!e)
+      throw UserError(where_in(p, node, where) +
+                      "expected { quantities = [...], reason = \"...\" }");
+    require_known_keys(p, *e, where + ".", {"quantities", "reason"});
+    const std::string reason = (*e)["reason"].value_or(std::string());
+    if (reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
+    for (const std::string& q : strings_at(p, (*e)["quantities"], where + ".quantities")) {
+      if (std::find(known.begin(), known.end(), q) == known.end())
+        throw UserError(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
+      t.ungated[engine][q] = reason;
+    }
+  }
+}
+
+}  // namespace
+
+Tolerances read_tolerances(const fs::path& p) {
+  Tolerances t;
+  const std::string text = read_tolerance_text(p);
+  // a structurally extreme file would exhaust the parser's stack before it could complain
+  if (const auto problem = toml_structure_problem(text))
+    throw UserError(p.string() + ":" + std::to_string(problem->first) +
+                    ": not a tolerance file: " + problem->second);
+  toml::table root;
+  try {
+    root = toml::parse(text, p.string());
+  } catch (const toml::parse_error& e) {
+    throw UserError(p.string() + ":" + std::to_string(e.source().begin.line) + ": " +
+                    std::string(e.description()));
+  }
+  std::vector<std::string> known = kMetricQuantities;
+  known.push_back("final_shape_rms");
+  for (const auto& [key, node] : root) {
+    const std::string name(key.str());
+    if (name == "stability" || name == "ungated" || name == "mirror") continue;
+    if (std::find(known.begin(), known.end(), name) == known.end())
+      throw UserError(where_in(p, node, name) + "unknown quantity");
+    const toml::table* tab = node.as_table();
+    if (!tab) throw UserError(where_in(p, node, name) + "expected { abs = ..., rel = ... }");
+    require_known_keys(p, *tab, name + ".", {"abs", "rel"});
+    t.quantity[name] = {non_negative(p, *tab, "abs", name + ".", 0.0),
+                        non_negative(p, *tab, "rel", name + ".", 0.0)};
+  }
+  for (const std::string& q : known)
+    if (!t.quantity.count(q)) throw UserError(p.string() + ": no tolerance for " + q);
+  if (const toml::table* s = root["stability"].as_table()) read_stability_table(p, *s, t);
+  if (const toml::table* u = root["ungated"].as_table()) read_ungated_table(p, *u, known, t);
+  if (const toml::table* m = root["mirror"].as_table()) {
+    require_known_keys(p, *m, "mirror.", {"engines"});
+    for (const std::string& e : strings_at(p, (*m)["engines"], "mirror.engines"))
+      t.mirrored.insert(e);
+  }
+  return t;
+}
+
+}  // namespace clothbench

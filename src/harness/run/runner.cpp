@@ -1,0 +1,435 @@
+#include "harness/run/runner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <ctime>
+#include <sstream>
+#include <stdexcept>
+
+#include "cloth/forces/energies.hpp"
+#include "cloth/forces/spring_forces.hpp"
+#include "harness/build_info.hpp"
+#include "harness/engines/engine_factory.hpp"
+#include "harness/io/csv_writer.hpp"
+#include "harness/io/output_schema.hpp"
+#include "harness/io/staged_folder.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/run/build_info.hpp"
+#include "harness/run/trajectory_files.hpp"
+#include "harness/scenario/engine_refusal.hpp"
+#include "harness/scenario/scenario_writer.hpp"
+
+namespace clothbench {
+
+std::atomic<bool>& interrupt_requested() {
+  static std::atomic<bool> flag{false};
+  return flag;
+}
+
+long long planned_steps(const Scenario& sc, const EngineSpec& spec) {
+  return std::llround(sc.duration / spec.dt);
+}
+
+namespace {
+
+/// True once a run started at started has taken more than sc.max_run_seconds (when set).
+bool over_budget(const Scenario& sc, std::chrono::steady_clock::time_point started) {
+  return sc.max_run_seconds > 0 &&
+         !(std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count() <=
+           sc.max_run_seconds);
+}
+
+/// What engine sim has booked of its energy so far.
+EnergyBooks books_of(const cloth::Simulator& sim) {
+  return EnergyBooks{sim.dissipated(), sim.contact_work(), sim.unbooked()};
+}
+
+/// The energy half of the blow-up test: a run fails once its energy error, the energy its
+/// scheme created, exceeds blowup_energy times the EnergyScale. One-sided: a scheme that loses
+/// energy (backward Euler's numerical damping) is dissipative, not unstable.
+class EnergyTest {
+ public:
+  /// Starts the books at sim's current (initial) state.
+  EnergyTest(const cloth::Model& model, const cloth::Simulator& sim, double blowup_energy)
+      : m_model(model), m_sim(sim), m_scale(model), m_limit(blowup_energy) {
+    const cloth::Energies e = cloth::compute_energies(model, sim.positions(), sim.velocities());
+    m_e0 = e.total();
+    m_scale.observe(e.kinetic, e.elastic_potential);
+  }
+  /// Total energy at the start (J).
+  double e0() const { return m_e0; }
+  /// Why the current state fails the test ("energy", or "non-finite" for a NaN or infinite
+  /// energy error: a velocity gone bad while the positions are still finite); nullptr when it
+  /// passes. Its energies join the scale first.
+  const char* failure() {
+    const cloth::Energies e =
+        cloth::compute_energies(m_model, m_sim.positions(), m_sim.velocities());
+    m_scale.observe(e.kinetic, e.elastic_potential);
+    const double error = energy_error(e.total(), books_of(m_sim), m_e0);
+    if (!std::isfinite(error)) return "non-finite";
+    return m_scale.exceeded_by(error, m_limit) ? "energy" : nullptr;
+  }
+
+ private:
+  const cloth::Model& m_model;
+  const cloth::Simulator& m_sim;
+  EnergyScale m_scale;
+  double m_limit;
+  double m_e0 = 0;  // J
+};
+
+/// The contacts of a frame: how many particles touch a collider, and the colliders' impulse
+/// over the frame divided by its time (NaN and -1 for an engine that cannot say).
+class ContactMeter {
+ public:
+  explicit ContactMeter(const cloth::Simulator& sim)
+      : m_sim(sim), m_impulse(sim.contact_impulse()), m_t(sim.time()) {}
+  FrameMetrics read(FrameMetrics m) {
+    m.contacts = m_sim.contacts();
+    const Eigen::Vector3d now = m_sim.contact_impulse();
+    const double span = m_sim.time() - m_t;
+    m.contact_force =
+        span > 0 ? Eigen::Vector3d((now - m_impulse) / span) : Eigen::Vector3d(now * 0.0);
+    m_impulse = now;
+    m_t = m_sim.time();
+    return m;
+  }
+
+ private:
+  const cloth::Simulator& m_sim;
+  Eigen::Vector3d m_impulse;  // N s, at the last frame
+  double m_t;                 // s, of the last frame
+};
+
+}  // namespace
+
+EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
+                     Progress* progress, bool keep_positions) {
+  EngineRun run;
+  run.spec = spec;
+  auto sim = make_engine(spec, sc.scene);
+  const long long steps_per_frame = std::llround(sc.frame_interval / spec.dt);
+  const long long frames = std::llround(sc.duration / sc.frame_interval);
+  const long long frames_per_snapshot =
+      sc.snapshot_interval > 0 ? std::llround(sc.snapshot_interval / sc.frame_interval) : 0;
+  const long long steps_per_check =
+      std::clamp(std::llround(kEnergyCheckInterval / spec.dt), 1LL, steps_per_frame);
+  EnergyTest energy_test(model, *sim, sc.blowup_energy);
+  auto fail = [&](const char* cause) {
+    run.stable = false;
+    run.cause = cause;
+    run.blowup_t = sim->time();
+  };
+
+  // frames sit on the exact grid k * frame_interval; a blow-up row at the failing step's time
+  ContactMeter contact(*sim);
+  auto log_frame = [&](long long frame, bool stable) {
+    const double t = stable ? double(frame) * sc.frame_interval : sim->time();
+    FrameMetrics m = contact.read(frame_metrics(model, t, sim->positions(), sim->velocities(),
+                                                books_of(*sim), energy_test.e0()));
+    m.stable = stable;
+    // a NaN energy error sticks (std::max would drop it and let the gate pass)
+    if (stable && !std::isnan(run.max_energy_error) &&
+        !(std::abs(m.energy_error) <= run.max_energy_error))
+      run.max_energy_error = std::abs(m.energy_error);
+    run.frames.push_back(m);
+    if (keep_positions) run.positions.push_back(sim->positions());
+  };
+  auto snapshot = [&]() {
+    run.snapshot_times.push_back(run.frames.back().t);
+    run.snapshots.push_back(sim->positions());
+  };
+
+  log_frame(0, true);
+  snapshot();
+  const auto started = std::chrono::steady_clock::now();
+  for (long long f = 1; f <= frames && run.stable; ++f) {
+    for (long long s = 0; s < steps_per_frame; ++s) {
+      // every step: one frame can be long (a stability trial is a single frame)
+      if (interrupt_requested()) throw Interrupted();
+      if (over_budget(sc, started)) {
+        run.stable = false;
+        run.timed_out = true;
+        break;
+      }
+      const auto t0 = std::chrono::steady_clock::now();
+      sim->step(spec.dt);
+      run.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      if (!cloth::within_strain(model.springs, sim->positions(), sc.blowup_strain)) {
+        fail(sim->positions().allFinite() ? "strain" : "non-finite");
+        break;
+      }
+      if ((s + 1) % steps_per_check == 0 || s + 1 == steps_per_frame) {
+        if (const char* cause = energy_test.failure()) {
+          fail(cause);
+          break;
+        }
+      }
+    }
+    log_frame(f, run.stable);
+    if (progress && progress->live()) {
+      // the label carries the simulated time: a slow engine shows how far it has come
+      char label[96];
+      std::snprintf(label, sizeof label, "%s  t = %.2f / %.2f s", spec.name.c_str(), sim->time(),
+                    sc.duration);
+      progress->advance(double(steps_per_frame), label);
+    }
+    const bool last = f == frames || !run.stable;
+    if (last || (frames_per_snapshot > 0 && f % frames_per_snapshot == 0)) snapshot();
+  }
+  run.counters = sim->counters();
+  run.final_kinetic = run.frames.back().kinetic;
+  run.final_static_residual =
+      static_residual(model, sim->time(), sim->positions(), sim->velocities());
+  return run;
+}
+
+RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
+  RunResult result;
+  result.scenario = sc;
+  result.model = cloth::build_model(sc.scene);
+  const int ref = sc.reference_index();
+  // which engines run: the filter, plus the reference
+  std::vector<int> chosen;
+  for (const std::string& name : options.engines) {
+    auto it = std::find_if(sc.engines.begin(), sc.engines.end(),
+                           [&](const EngineSpec& e) { return e.name == name; });
+    if (it == sc.engines.end()) {
+      std::string known;
+      for (const EngineSpec& e : sc.engines) known += (known.empty() ? "" : ", ") + e.name;
+      throw UserError("--engine " + name + ": no such engine in " + sc.source +
+                      " (engines: " + known + ")");
+    }
+  }
+  for (int i = 0; i < static_cast<int>(sc.engines.size()); ++i) {
+    const bool wanted = options.engines.empty() || i == ref ||
+                        std::count(options.engines.begin(), options.engines.end(),
+                                   sc.engines[static_cast<size_t>(i)].name) > 0;
+    if (wanted) chosen.push_back(i);
+  }
+  // a scene an engine refuses fails before any work (the loader refused it already, unless
+  // the caller changed the scene since)
+  for (int i : chosen) require_engine_can_model(sc.engines[static_cast<size_t>(i)], sc.scene, "");
+
+  double total_steps = 0;
+  for (int i : chosen) total_steps += double(planned_steps(sc, sc.engines[static_cast<size_t>(i)]));
+  Progress progress(total_steps, "steps", options.progress);
+  for (int i : chosen) {
+    const EngineSpec& spec = sc.engines[static_cast<size_t>(i)];
+    if (i == ref) result.reference = static_cast<int>(result.runs.size());
+    EngineRun run = run_engine(sc, spec, result.model, &progress, options.keep_positions);
+    std::ostringstream msg;
+    msg << spec.name << ": " << run.counters.steps << " steps of " << spec.dt << " s in "
+        << format_double(std::round(run.wall_s * 1000) / 1000) << " s ("
+        << std::llround(run.counters.steps / std::max(run.wall_s, 1e-9)) << " steps/s), "
+        << (run.stable ? std::string("stable")
+            : run.timed_out
+                ? "timeout: stopped at t = " + format_double(run.frames.back().t) +
+                      " s after --max-run-seconds " + format_double(sc.max_run_seconds) + " s"
+                : "unstable (" + run.cause + ") at t = " + format_double(run.blowup_t) + " s");
+    if (run.counters.cg_unconverged > 0)
+      msg << "; " << run.counters.cg_unconverged
+          << " linear solves stopped at cg_max_iterations before reaching cg_tolerance";
+    progress.line(msg.str());
+    result.runs.push_back(std::move(run));
+  }
+  // divergence of every engine from the reference, frame by frame while both ran
+  const EngineRun& r = result.runs[static_cast<size_t>(result.reference)];
+  for (const EngineRun& run : result.runs) {
+    std::vector<Divergence> d;
+    const size_t n =
+        std::min({run.frames.size(), r.frames.size(), run.positions.size(), r.positions.size()});
+    for (size_t k = 0; k < n; ++k) {
+      // an unstable last frame sits at the blow-up time, not on the common frame grid
+      if (!run.frames[k].stable || !r.frames[k].stable) break;
+      d.push_back(divergence(run.positions[k], run.frames[k], r.positions[k], r.frames[k]));
+    }
+    result.divergence.push_back(std::move(d));
+  }
+  return result;
+}
+
+double final_drape_coefficient(const RunResult& result, const EngineRun& run) {
+  std::vector<double> disks;
+  for (const ConstraintSpec& c : result.scenario.constraints)
+    if (c.select == "disk") disks.push_back(c.disk_radius);
+  const cloth::ClothParams& c = result.scenario.scene.cloth;
+  const cloth::Scene& scene = result.scenario.scene;
+  const double support =
+      support_area(disks, scene.spheres, c.plane == cloth::Plane::xz, scene.shapes.cylinders);
+  const double cloth_area = c.size_u * c.size_v;
+  if (support <= 0 || cloth_area <= support || run.frames.empty())
+    return std::numeric_limits<double>::quiet_NaN();
+  return drape_coefficient(run.frames.back().shadow_area, support, cloth_area);
+}
+
+namespace {
+
+/// The facts about engine kinds and integrators that the gate and the report read from
+/// run.json rather than keeping copies of their own, as JSON members (two-space indented).
+std::string facts_json() {
+  std::ostringstream o;
+  o << "  \"engine_kinds\": {";
+  const auto& kinds = engine_kind_table();
+  for (size_t k = 0; k < kinds.size(); ++k)
+    o << (k ? "," : "") << "\n    \"" << kinds[k].name
+      << "\": {\"has_integrators\": " << (kinds[k].has_integrators ? "true" : "false")
+      << ", \"energy_gated\": " << (kinds[k].energy_gated ? "true" : "false")
+      << ", \"energy_note\": \"" << kinds[k].energy_note << "\"}";
+  o << "\n  },\n  \"integrators\": {";
+  const auto& integrators = cloth::all_integrators();
+  for (size_t k = 0; k < integrators.size(); ++k)
+    o << (k ? "," : "") << "\n    \"" << cloth::integrator_name(integrators[k])
+      << "\": {\"order\": " << cloth::integrator_order(integrators[k])
+      << ", \"force_evals_per_step\": " << cloth::force_evals_per_step(integrators[k]) << "}";
+  o << "\n  }";
+  return o.str();
+}
+
+/// frames.csv: one row per engine per frame.
+void write_frames(const RunResult& result, CsvWriter& frames) {
+  for (const EngineRun& run : result.runs)
+    for (const FrameMetrics& m : run.frames) {
+      frames.add(run.spec.name).add(m.t).add(m.kinetic).add(m.gravity_potential);
+      frames.add(m.elastic_potential).add(m.dissipated).add(m.contact_work).add(m.unbooked);
+      frames.add(m.total_energy).add(m.energy_error);
+      frames.add(m.max_strain).add(m.mean_strain).add(m.com.x()).add(m.com.y()).add(m.com.z());
+      frames.add(m.min_y).add(m.max_penetration).add(m.shadow_area).add(m.stable ? 1 : 0);
+      // an engine that cannot say leaves the contact columns empty
+      if (m.contacts < 0)
+        frames.skip().skip().skip().skip();
+      else
+        frames.add(m.contacts)
+            .add(m.contact_force.x())
+            .add(m.contact_force.y())
+            .add(m.contact_force.z());
+      frames.end_row();
+    }
+}
+
+/// divergence.csv: every engine but the reference against it, per frame.
+void write_divergence(const RunResult& result, CsvWriter& div) {
+  const std::string ref_name = result.runs[static_cast<size_t>(result.reference)].spec.name;
+  for (size_t i = 0; i < result.runs.size(); ++i) {
+    if (static_cast<int>(i) == result.reference) continue;
+    for (const Divergence& d : result.divergence[i]) {
+      div.add(result.runs[i].spec.name).add(ref_name).add(d.t).add(d.rms_distance);
+      div.add(d.max_distance).add(d.com_distance).add(d.energy_difference);
+      div.add(d.shadow_area_difference).end_row();
+    }
+  }
+}
+
+/// snapshots.csv: every particle of every kept shape.
+void write_snapshots(const RunResult& result, CsvWriter& snaps) {
+  const int nu = result.model.nu;
+  for (const EngineRun& run : result.runs)
+    for (size_t s = 0; s < run.snapshots.size(); ++s)
+      for (Eigen::Index p = 0; p < run.snapshots[s].cols(); ++p) {
+        snaps.add(run.spec.name).add(run.snapshot_times[s]);
+        snaps.add(static_cast<int>(p % nu)).add(static_cast<int>(p / nu));
+        snaps.add(run.snapshots[s](0, p)).add(run.snapshots[s](1, p)).add(run.snapshots[s](2, p));
+        snaps.end_row();
+      }
+}
+
+/// summary.csv: one row per engine.
+void write_summary(const RunResult& result, CsvWriter& summary) {
+  for (size_t i = 0; i < result.runs.size(); ++i) {
+    const EngineRun& run = result.runs[i];
+    const std::vector<Divergence>& d = result.divergence[i];
+    summary.add(run.spec.name).add(std::string(engine_kind_name(run.spec.kind)));
+    if (engine_kind_info(run.spec.kind).has_integrators)
+      summary.add(std::string(cloth::integrator_name(run.spec.solver.integrator)));
+    else
+      summary.skip();
+    summary.add(run.spec.dt).add(static_cast<long long>(run.counters.steps)).add(run.wall_s);
+    summary.add(run.counters.steps > 0 ? 1e6 * run.wall_s / double(run.counters.steps) : 0.0);
+    summary.add(static_cast<long long>(run.counters.force_evals)).add(run.stable ? 1 : 0);
+    if (run.stable || run.timed_out)
+      summary.skip();  // a timeout: stable 0 with no blow-up time
+    else
+      summary.add(run.blowup_t);
+    summary.add(run.max_energy_error);
+    if (d.empty()) {
+      summary.skip().skip();
+    } else {
+      double worst = 0;
+      for (const Divergence& x : d) worst = std::max(worst, x.rms_distance);
+      summary.add(d.back().rms_distance).add(worst);
+    }
+    const double dc = final_drape_coefficient(result, run);
+    if (std::isnan(dc))
+      summary.skip();
+    else
+      summary.add(dc);
+    summary.add(run.final_kinetic).add(run.final_static_residual).end_row();
+  }
+}
+
+}  // namespace
+
+std::string run_info_json() {
+  char date[32];
+  const std::time_t now = std::time(nullptr);
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  std::ostringstream o;
+  o << "{\n  \"tool\": \"clothbench\",\n  \"version\": \"" << kVersion << "\",\n"
+    << "  \"git_commit\": \"" << kGitCommit << "\",\n  \"compiler\": \"" << kCompiler
+    << "\",\n  \"date\": \"" << date << "\",\n"
+    << facts_json() << "\n}\n";
+  return o.str();
+}
+
+void write_run_info(const std::string& dir) {
+  AtomicFile info(dir + "run.json");
+  info.write(run_info_json());
+  info.commit();
+}
+
+namespace {
+
+/// Writes the run's files into dir (ending with '/').
+void write_run_files(const RunResult& result, const std::string& dir) {
+  // each file's columns come from its schema (output_schema.cpp)
+  CsvWriter frames(dir + "frames.csv", output_header("frames.csv"));
+  write_frames(result, frames);
+  CsvWriter div(dir + "divergence.csv", output_header("divergence.csv"));
+  write_divergence(result, div);
+  CsvWriter snaps(dir + "snapshots.csv", output_header("snapshots.csv"));
+  write_snapshots(result, snaps);
+  CsvWriter summary(dir + "summary.csv", output_header("summary.csv"));
+  write_summary(result, summary);
+  AtomicFile toml(dir + "scenario.toml");
+  toml.write(scenario_to_toml(result.scenario));
+  AtomicFile info(dir + "run.json");
+  info.write(run_info_json());
+  std::vector<std::unique_ptr<AtomicFile>> trajectory;
+  write_trajectories(result, dir, trajectory);
+  // every file is complete: make them all appear (the trajectory index last)
+  frames.commit();
+  div.commit();
+  snaps.commit();
+  summary.commit();
+  toml.commit();
+  info.commit();
+  for (auto& f : trajectory) f->commit();
+}
+
+}  // namespace
+
+void write_run(const RunResult& result, const std::string& out) {
+  make_directories(out);
+  StagedFolder staged(out);
+  staged.owns("trajectory");  // the new run's, or none: never an older run's beside new CSVs
+  try {
+    write_run_files(result, staged.path());
+  } catch (const UserError& e) {
+    throw UserError(staged.in_folder(e.what()));
+  }
+  staged.commit();
+}
+
+}  // namespace clothbench

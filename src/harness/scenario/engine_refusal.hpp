@@ -1,0 +1,24 @@
+#pragma once
+/// @file engine_refusal.hpp
+/// Says without building anything what an engine cannot model: the scenario loader refuses such
+/// a scene before any engine is built (engines/engine_factory.hpp builds the ones it accepts).
+
+#include <optional>
+#include <string>
+
+#include "cloth/model/scene.hpp"
+#include "harness/scenario/scenario.hpp"
+#include "reference/refusal.hpp"
+
+namespace clothbench {
+
+/// Why an engine of spec cannot model scene (the feature, and the scenario keys to blame), or
+/// nullopt when it can. Pure: nothing is constructed. The custom engine models every scene.
+std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec, const cloth::Scene& scene);
+
+/// Throws UserError naming the engine, context (what was changed, e.g. "at dt = 0.002 s") and
+/// the feature when engine_refusal refuses: for sweeps that change a loaded scene.
+void require_engine_can_model(const EngineSpec& spec, const cloth::Scene& scene,
+                              const std::string& context);
+
+}  // namespace clothbench

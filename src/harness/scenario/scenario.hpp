@@ -1,0 +1,73 @@
+#pragma once
+/// @file scenario.hpp
+/// A scenario: one physical scene, how long and how often to log it, and the engines to run.
+/// Filled by scenario_loader from a TOML file; read by the runner and the engine factory.
+
+#include <string>
+#include <vector>
+
+#include "cloth/model/scene.hpp"
+#include "cloth/solvers/solver_options.hpp"
+#include "harness/scenario/engine_kind.hpp"
+#include "reference/bullet/bullet_options.hpp"
+
+namespace clothbench {
+
+/// Which particles a constraint holds.
+struct ConstraintSpec {
+  std::string select =
+      "corners";  // corners | edge:u0 | edge:u1 | edge:v0 | edge:v1 | disk | indices
+  std::uint8_t hold = cloth::kHoldAll;       // held axes (cloth::AxisBits)
+  double disk_center_x = 0.0;                // m, select = "disk": centre in the cloth plane's
+  double disk_center_z = 0.0;                // m   first and second world axes (x, z) or (x, y)
+  double disk_radius = 0.0;                  // m
+  std::vector<std::pair<int, int>> indices;  // select = "indices": (i, j) pairs
+};
+
+/// A handle: the particles a selection picks, moved along a motion.
+struct HandleSpec {
+  ConstraintSpec select;  // hold is always xyz
+  cloth::Motion motion;
+};
+
+/// One engine of a scenario.
+struct EngineSpec {
+  std::string name;  // unique within the scenario
+  EngineKind kind = EngineKind::custom;
+  double dt = 1e-3;                 // s
+  cloth::SolverOptions solver;      // kind = custom
+  reference::BulletOptions bullet;  // kind = bullet-*
+};
+
+/// Everything a run needs; every key of the scenario file has a field here, and so has the
+/// one run setting of the command line that is not a key (max_run_seconds).
+struct Scenario {
+  std::string name = "scenario";
+  std::string description;
+  std::string source;                // file it came from, or "<embedded>"
+  double duration = 1.0;             // s
+  double frame_interval = 0.01;      // s between metric rows
+  double snapshot_interval = 0.0;    // s between full-shape snapshots; 0: initial and final only
+  double animation_interval = 0.03;  // s between trajectory frames, a whole number of frames
+                                     // (default 1/30 s rounded so); 0: no trajectory
+  double blowup_strain = 1.0;        // a run is unstable once |strain| exceeds this
+  double blowup_energy = 0.1;        // ... or once the energy error exceeds this times the
+                                     // run's EnergyScale (see metrics.hpp)
+  std::string reference;             // engine the others are compared against ("" = the first)
+  cloth::Scene scene;                // scene.held is filled from constraints
+  std::vector<ConstraintSpec> constraints;
+  std::vector<HandleSpec> handles;  // scene.handles is filled from these
+  std::vector<EngineSpec> engines;
+  double max_run_seconds = 0;  // s of wall clock one engine run may take before it stops as
+                               // a timeout (--max-run-seconds; 0: no limit; never in a file)
+
+  /// The reference engine's index in engines.
+  int reference_index() const;
+};
+
+/// Held-axis mask (#P entries) of the constraints on the cloth of scene.
+/// Throws std::invalid_argument for a selection outside the grid.
+std::vector<std::uint8_t> held_mask(const cloth::ClothParams& cloth,
+                                    const std::vector<ConstraintSpec>& constraints);
+
+}  // namespace clothbench

@@ -1,0 +1,666 @@
+#include "harness/scenario/scenario_loader.hpp"
+
+#include <toml++/toml.h>
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <sstream>
+
+#include "harness/scenario/embedded_seed_scenario.hpp"
+#include "harness/scenario/engine_refusal.hpp"
+#include "harness/scenario/scenario_overrides.hpp"
+#include "harness/scenario/toml_reader.hpp"
+
+namespace clothbench {
+
+namespace {
+
+// ---- reading a toml::table into a Scenario, with located errors
+
+cloth::ClothParams read_cloth(const Reader& r, const toml::table* table) {
+  cloth::ClothParams c;
+  if (!table) return c;
+  const At at{*table, "cloth"};
+  r.check_keys(at, kClothKeys);
+
+  // grid
+  if (const toml::node* n = table->get("particles")) {
+    const auto p = Reader::int_pair(*n, 1);
+    if (!p) r.expected(*n, "cloth.particles", "an array of 2 integers >= 1");
+    const long long total = static_cast<long long>((*p)[0]) * (*p)[1];
+    if (total < 2) r.expected(*n, "cloth.particles", "at least 2 particles in all");
+    if (total > 10'000'000) r.expected(*n, "cloth.particles", "at most 10000000 particles in all");
+    c.nu = (*p)[0];
+    c.nv = (*p)[1];
+  }
+  const auto size = r.number_pair(at, "size", {c.size_u, c.size_v}, kNonNegative);
+  for (int d = 0; d < 2; ++d) {
+    // springs along a direction with several particles need a length to rest at
+    const int count = d == 0 ? c.nu : c.nv;
+    if (count > 1 && !(size[d] > 0))
+      r.fail(table->get("size"), "cloth.size",
+             std::string("expected a size > 0 along ") + (d == 0 ? "u" : "v") + ", which has " +
+                 std::to_string(count) + " particles, got " + toml_double(size[d]));
+  }
+  c.size_u = size[0];
+  c.size_v = size[1];
+  c.center = r.vec3(at, "center", c.center);
+  c.plane = *parse_plane(r.choice(at, "plane", plane_name(c.plane), kPlanes));
+
+  // mass: one of the two ways of giving it
+  const toml::node* pm = table->get("particle_mass");
+  const toml::node* tm = table->get("total_mass");
+  if (pm && tm) {
+    const auto [n, key] = blame({{tm, "cloth.total_mass"}, {pm, "cloth.particle_mass"}});
+    r.fail(n, key, "expected particle_mass or total_mass, got both (give the mass one way only)");
+  }
+  c.particle_mass = r.number(at, "particle_mass", c.particle_mass, kPositive);
+  c.total_mass = r.number(at, "total_mass", c.total_mass, kPositive);
+
+  // a stiffness table names the spring kinds there are; an omitted kind has no springs
+  if (const toml::table* st = r.table(at, "stiffness")) {
+    const At sat{*st, "cloth.stiffness"};
+    r.check_keys(sat, kStiffnessKeys);
+    c.k_structural = r.number(sat, "structural", 0.0, kNonNegative);
+    c.k_shear = r.number(sat, "shear", 0.0, kNonNegative);
+    c.k_bend = r.number(sat, "bend", 0.0, kNonNegative);
+  }
+  c.damping = r.number(at, "damping", c.damping, kNonNegative);
+  c.air_drag = r.number(at, "air_drag", c.air_drag, kNonNegative);
+  return c;
+}
+
+ConstraintSpec read_constraint(const Reader& r, const toml::table& t, const std::string& path,
+                               const cloth::ClothParams& cloth,
+                               const Keys& keys = kConstraintKeys) {
+  const At at{t, path};
+  r.check_keys(at, keys);
+  ConstraintSpec c;
+  c.select = r.choice(at, "select", c.select, kSelections);
+  const std::string hold = r.string(at, "hold", hold_letters(c.hold));
+  c.hold = parse_hold(hold);
+  if (c.hold == 0)
+    r.fail(t.get("hold"), at.key("hold"),
+           "expected a non-empty combination of the letters x, y and z, got " + toml_string(hold));
+
+  // each selection takes its own keys
+  using KeyOwner = std::pair<const char*, const char*>;
+  for (const auto& [key, owner] :
+       {KeyOwner{"center", "disk"}, KeyOwner{"radius", "disk"}, KeyOwner{"list", "indices"}})
+    if (const toml::node* n = t.get(key); n && c.select != owner)
+      r.fail(n, at.key(key),
+             std::string("applies only to select = \"") + owner + "\", this constraint selects " +
+                 toml_string(c.select));
+
+  if (c.select == "disk") {
+    const char* axes = cloth.plane == cloth::Plane::xz ? "x, z" : "x, y";
+    if (!t.get("center"))
+      r.fail(
+          &t, at.key("center"),
+          std::string("a disk needs center = [a, b] (m, on the cloth plane's ") + axes + " axes)");
+    if (!t.get("radius")) r.fail(&t, at.key("radius"), "a disk needs radius = r (m)");
+    const auto center = r.number_pair(at, "center", {0, 0}, kAnyNumber);
+    c.disk_center_x = center[0];
+    c.disk_center_z = center[1];
+    c.disk_radius = r.number(at, "radius", 0.0, kPositive);
+    const std::vector<std::uint8_t> mask = held_mask(cloth, {c});
+    if (std::none_of(mask.begin(), mask.end(), [](std::uint8_t m) { return m != 0; }))
+      r.fail(t.get("radius"), at.key("radius"),
+             "expected a disk that covers at least one particle, got radius " +
+                 toml_double(c.disk_radius) + " m around [" + toml_double(center[0]) + ", " +
+                 toml_double(center[1]) + "] (" + axes + "), which holds none");
+  }
+
+  if (c.select == "indices") {
+    const toml::node* n = t.get("list");
+    if (!n) r.fail(&t, at.key("list"), "select = \"indices\" needs list = [[i, j], ...]");
+    const toml::array* list = n->as_array();
+    if (!list || list->empty())
+      r.expected(*n, at.key("list"), "a non-empty array of [i, j] grid indices");
+    for (size_t k = 0; k < list->size(); ++k) {
+      const toml::node& e = *list->get(k);
+      const std::string key = at.key("list") + "." + std::to_string(k);
+      const auto ij = Reader::int_pair(e, std::numeric_limits<int>::min());
+      if (!ij) r.expected(e, key, "an [i, j] pair of integers");
+      const auto [i, j] = *ij;
+      if (i < 0 || i >= cloth.nu || j < 0 || j >= cloth.nv)
+        r.fail(&e, key,
+               "expected a grid index with i in 0.." + std::to_string(cloth.nu - 1) +
+                   " and j in 0.." + std::to_string(cloth.nv - 1) + " (the grid has " +
+                   std::to_string(cloth.nu) + " x " + std::to_string(cloth.nv) +
+                   " particles), got " + describe(e));
+      c.indices.emplace_back(i, j);
+    }
+  }
+  return c;
+}
+
+/// A path = [[t, dx, dy, dz], ...]: times strictly increasing from 0, no displacement at 0.
+std::vector<std::array<double, 4>> read_path(const Reader& r, const At& at) {
+  const toml::node* n = at.table.get("path");
+  const toml::array* a = n->as_array();
+  if (!a || a->empty()) r.expected(*n, at.key("path"), "a non-empty array of [t, dx, dy, dz]");
+  std::vector<std::array<double, 4>> path;
+  for (size_t k = 0; k < a->size(); ++k) {
+    const toml::node& e = *a->get(k);
+    const std::string key = at.key("path") + "." + std::to_string(k);
+    const toml::array* row = e.as_array();
+    std::array<double, 4> p{};
+    for (size_t c = 0; row && row->size() == 4 && c < 4; ++c) {
+      const toml::node& x = *row->get(c);
+      const auto v =
+          x.is_integer() ? std::optional<double>(double(x.as_integer()->get())) : x.value<double>();
+      if (!v || !std::isfinite(*v))
+        row = nullptr;
+      else
+        p[c] = *v;
+    }
+    if (!row || row->size() != 4) r.expected(e, key, "[t, dx, dy, dz], 4 numbers (s, m, m, m)");
+    if (k == 0 && (p[0] != 0 || p[1] != 0 || p[2] != 0 || p[3] != 0))
+      r.expected(e, key, "the first point at [0, 0, 0, 0] (no displacement at t = 0)");
+    if (k > 0 && !(p[0] > path.back()[0]))
+      r.fail(&e, key,
+             "expected times strictly increasing, got t = " + toml_double(p[0]) +
+                 " s after t = " + toml_double(path.back()[0]) + " s");
+    path.push_back(p);
+  }
+  return path;
+}
+
+/// A velocity or a path, never both.
+cloth::Motion read_motion(const Reader& r, const At& at, bool velocity_key) {
+  cloth::Motion m;
+  const toml::node* v = velocity_key ? at.table.get("velocity") : nullptr;
+  const toml::node* p = at.table.get("path");
+  if (v && p)
+    r.fail(p, at.key("path"), "expected velocity or path, got both (give the motion one way)");
+  if (velocity_key) m.velocity = r.vec3(at, "velocity", m.velocity);
+  if (p) m.path = read_path(r, at);
+  return m;
+}
+
+/// The keys every collider has.
+void read_collider(const Reader& r, const At& at, cloth::Collider& c) {
+  static_cast<cloth::Motion&>(c) = read_motion(r, at, true);
+  c.restitution = r.number(at, "restitution", c.restitution, kUnitInterval);
+  c.friction = r.number(at, "friction", c.friction, kNonNegative);
+  c.margin = r.number(at, "margin", c.margin, kNonNegative);
+}
+
+/// Checks t's keys against a shape's own keys and the colliders' common ones.
+void check_shape_keys(const Reader& r, const At& at, const Keys& own) {
+  Keys keys = own;
+  keys.insert(keys.end(), kColliderKeys.begin(), kColliderKeys.end());
+  r.check_keys(at, keys);
+}
+
+cloth::Sphere read_sphere(const Reader& r, const toml::table& t, const std::string& path) {
+  const At at{t, path};
+  r.check_keys(at, kSphereKeys);
+  cloth::Sphere s;
+  s.center = r.vec3(at, "center", s.center);
+  s.radius = r.number(at, "radius", s.radius, kPositive);
+  read_collider(r, at, s);
+  return s;
+}
+
+cloth::HalfSpace read_plane(const Reader& r, const toml::table& t, const std::string& path) {
+  const At at{t, path};
+  check_shape_keys(r, at, kPlaneKeys);
+  cloth::HalfSpace s;
+  s.point = r.vec3(at, "point", s.point);
+  s.normal = r.vec3(at, "normal", s.normal);
+  if (!(s.normal.norm() > 0) || !std::isfinite(s.normal.norm()))
+    r.expected(*t.get("normal"), at.key("normal"), "a non-zero normal (out of the solid)");
+  read_collider(r, at, s);
+  return s;
+}
+
+cloth::Box read_box(const Reader& r, const toml::table& t, const std::string& path) {
+  const At at{t, path};
+  check_shape_keys(r, at, kBoxKeys);
+  cloth::Box s;
+  s.center = r.vec3(at, "center", s.center);
+  s.half_extents = r.vec3(at, "half_extents", s.half_extents);
+  if (!(s.half_extents.minCoeff() > 0))
+    r.expected(*t.get("half_extents"), at.key("half_extents"), "an array of 3 numbers > 0");
+  read_collider(r, at, s);
+  return s;
+}
+
+cloth::Capsule read_capsule(const Reader& r, const toml::table& t, const std::string& path) {
+  const At at{t, path};
+  check_shape_keys(r, at, kCapsuleKeys);
+  cloth::Capsule s;
+  s.a = r.vec3(at, "a", s.a);
+  s.b = r.vec3(at, "b", s.b);
+  if (!((s.b - s.a).squaredNorm() > 0))
+    r.fail(t.get("b") ? t.get("b") : &t, at.key("b"),
+           "expected b different from a (a capsule's axis), got both at [" + toml_double(s.a.x()) +
+               ", " + toml_double(s.a.y()) + ", " + toml_double(s.a.z()) + "]");
+  s.radius = r.number(at, "radius", s.radius, kPositive);
+  read_collider(r, at, s);
+  return s;
+}
+
+cloth::Cylinder read_cylinder(const Reader& r, const toml::table& t, const std::string& path) {
+  const At at{t, path};
+  check_shape_keys(r, at, kCylinderKeys);
+  cloth::Cylinder s;
+  s.center = r.vec3(at, "center", s.center);
+  s.radius = r.number(at, "radius", s.radius, kPositive);
+  s.height = r.number(at, "height", s.height, kPositive);
+  read_collider(r, at, s);
+  return s;
+}
+
+/// Every [[key]] table read by read.
+template <class T, class Read>
+std::vector<T> read_all(const Reader& r, const toml::table& root, const char* key, Read read) {
+  std::vector<T> out;
+  const auto tables = r.tables({root, ""}, key);
+  for (size_t k = 0; k < tables.size(); ++k)
+    out.push_back(read(r, *tables[k], std::string(key) + "." + std::to_string(k)));
+  return out;
+}
+
+/// The engine's name, kind and integrator; messages name it by index until its name is valid.
+EngineSpec read_engine_identity(const Reader& r, const toml::table& t, int index) {
+  EngineSpec e;
+  const toml::node* name = t.get("name");
+  std::string path = "engine." + std::to_string(index);
+  if (name) {
+    const std::string s = r.string({t, path}, "name", "");
+    if (!valid_engine_name(s))
+      r.expected(*name, path + ".name", "a name of letters, digits, '-', '_' or '+'");
+    path = "engine." + s;
+  }
+  const At first{t, path};
+  e.kind =
+      *parse_engine_kind(r.choice(first, "kind", engine_kind_name(e.kind), engine_kind_names()));
+  if (engine_kind_info(e.kind).has_integrators) {
+    const std::string integrator = r.choice(
+        first, "integrator", cloth::integrator_name(e.solver.integrator), integrator_names());
+    e.solver.integrator = *cloth::parse_integrator(integrator);
+  }
+  e.name = name ? name->as_string()->get() : derived_engine_name(e.kind, e.solver.integrator);
+  return e;
+}
+
+/// Refuses keys of t that engine e's kind does not have; keys of another kind are named so.
+void check_engine_keys(const Reader& r, const toml::table& t, const EngineSpec& e) {
+  const At at{t, "engine." + e.name};
+  const EngineKindInfo& own = engine_kind_info(e.kind);
+  Keys known = kEngineCommonKeys;
+  known.insert(known.end(), own.keys.begin(), own.keys.end());
+  const toml::node* kind = t.get("kind");
+  const std::string kind_source = from_override(kind) ? " (" + *kind->source().path + ")" : "";
+  for (const auto& [k, v] : t) {
+    if (contains(known, k.str())) continue;
+    for (const EngineKindInfo& other : engine_kind_table())
+      if (contains(other.keys, k.str()))
+        r.fail(&v, at.key(k.str()),
+               "applies only to " + std::string(other.name) + " engines, this one is " + own.name +
+                   kind_source);
+    r.fail(&v, at.key(k.str()), "unknown key" + suggest(k.str(), known));
+  }
+}
+
+/// A choice whose value only is what newton = "line-search" alone can do: its default there,
+/// `otherwise` in linearized mode, where only is refused (why says why).
+std::string read_line_search_choice(const Reader& r, const At& at, const cloth::SolverOptions& o,
+                                    const char* key, const Keys& choices, const char* only,
+                                    const char* otherwise, const char* why) {
+  const bool line_search = o.newton == cloth::NewtonMethod::line_search;
+  std::string value = r.choice(at, key, line_search ? only : otherwise, choices);
+  if (value == only && !line_search)
+    r.fail(at.table.get(key), at.key(key),
+           "\"" + value + "\" needs newton = \"line-search\" (" + why + ")");
+  return value;
+}
+
+/// cg_forcing and contacts: adaptive forcing and contacts in the solve by default with
+/// line-search.
+void read_line_search_keys(const Reader& r, const At& at, cloth::SolverOptions& o) {
+  o.cg_forcing = *cloth::parse_cg_forcing(read_line_search_choice(
+      r, at, o, "cg_forcing", kCgForcings, cloth::cg_forcing_name(cloth::CgForcing::adaptive),
+      cloth::cg_forcing_name(cloth::CgForcing::fixed),
+      "the linearized step has no Newton residual to adapt to"));
+  o.contacts_in_solve =
+      read_line_search_choice(
+          r, at, o, "contacts", kContactModes, contact_mode_name(true), contact_mode_name(false),
+          "the linearized step resolves contacts after the step") == contact_mode_name(true);
+}
+
+/// The options of e's kind, read from t.
+void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
+  switch (e.kind) {
+    case EngineKind::custom: {
+      cloth::SolverOptions& o = e.solver;
+      o.newton = *cloth::parse_newton_method(
+          r.choice(at, "newton", cloth::newton_method_name(o.newton), kNewtonMethods));
+      // line-search mode's iterations are a limit and its linear solves may be inexact
+      const bool line_search = o.newton == cloth::NewtonMethod::line_search;
+      const int newton_default =
+          line_search ? cloth::kLineSearchNewtonIterations : o.newton_iterations;
+      const double cg_default = line_search ? cloth::kLineSearchCgTolerance : o.cg_tolerance;
+      o.newton_iterations = r.integer(at, "newton_iterations", newton_default, 1);
+      o.newton_tolerance = r.number(at, "newton_tolerance", o.newton_tolerance, kPositive);
+      o.linear_solver = *cloth::parse_linear_solver(r.choice(
+          at, "linear_solver", cloth::linear_solver_name(o.linear_solver), kLinearSolvers));
+      o.cg_tolerance = r.number(at, "cg_tolerance", cg_default, kPositive);
+      o.cg_max_iterations = r.integer(at, "cg_max_iterations", o.cg_max_iterations, 1);
+      read_line_search_keys(r, at, o);
+      o.clamp_compressed = r.boolean(at, "clamp_compressed", o.clamp_compressed);
+      o.clamped_iterations = r.integer(at, "clamped_iterations", o.clamped_iterations, 0);
+      if (at.table.get("clamped_iterations") && !line_search)
+        r.fail(at.table.get("clamped_iterations"), at.key("clamped_iterations"),
+               "clamped_iterations needs newton = \"line-search\" (the linearized step always "
+               "uses the clamped matrix)");
+      // each step costs substeps x iterations sweeps: bounded so that a step always ends
+      o.substeps = r.integer(at, "substeps", o.substeps, 1, kMaxSolverIterations);
+      o.iterations = r.integer(at, "iterations", o.iterations, 1, kMaxSolverIterations);
+      break;
+    }
+    case EngineKind::bullet_deformable: {
+      reference::BulletOptions& o = e.bullet;
+      o.implicit = r.boolean(at, "implicit", o.implicit);
+      o.line_search = r.boolean(at, "line_search", o.line_search);
+      o.projection = r.boolean(at, "projection", o.projection);
+      break;
+    }
+    case EngineKind::bullet_softbody: {
+      reference::BulletOptions& o = e.bullet;
+      o.stiffness = *reference::parse_softbody_stiffness(r.choice(
+          at, "stiffness", reference::softbody_stiffness_name(o.stiffness), kSoftbodyStiffness));
+      o.klst = r.number(at, "klst", o.klst, kUnitInterval);
+      o.iterations = r.integer(at, "iterations", o.iterations, 1);
+      break;
+    }
+  }
+}
+
+/// An [[engine]] table, the index-th.
+EngineSpec read_engine(const Reader& r, const toml::table& t, int index) {
+  EngineSpec e = read_engine_identity(r, t, index);
+  check_engine_keys(r, t, e);
+  const At at{t, "engine." + e.name};
+  e.dt = r.number(at, "dt", e.dt, kPositive);
+  read_engine_options(r, at, e);
+  return e;
+}
+
+/// Reads an optional interval key (s) that must be 0 or a whole multiple of frame_interval.
+double read_frame_multiple(const Reader& r, const toml::table& root, const std::string& key,
+                           double def, double frame_interval) {
+  const double v = r.number(At{root, ""}, key, def, kNonNegative);
+  if (v > 0 && !whole_multiple(v, frame_interval)) {
+    const auto [n, blamed] =
+        blame({{root.get(key), key}, {root.get("frame_interval"), "frame_interval"}});
+    r.fail(n, blamed,
+           "expected " + key + " to be 0 or a whole multiple of frame_interval = " +
+               toml_double(frame_interval) + " s, got " + key + " = " + toml_double(v) + " s");
+  }
+  return v;
+}
+
+/// The top-level timing and naming keys.
+void read_header(const Reader& r, const toml::table& root, Scenario& s) {
+  const At at{root, ""};
+  s.name = r.string(at, "name", s.name);
+  if (!valid_scenario_name(s.name))
+    r.expected(*root.get("name"), "name",
+               "a name of letters, digits, '-', '_' or '.' (it names the output folder)");
+  s.description = r.string(at, "description", s.description);
+  s.duration = r.number(at, "duration", s.duration, kPositive);
+  s.frame_interval = r.number(at, "frame_interval", s.frame_interval, kPositive);
+  if (!whole_multiple(s.duration, s.frame_interval)) {
+    // a fractional last frame would be rounded away: the run would not last `duration`
+    const auto [n, key] =
+        blame({{root.get("duration"), "duration"}, {root.get("frame_interval"), "frame_interval"}});
+    r.fail(n, key,
+           "expected duration to be a whole multiple of frame_interval = " +
+               toml_double(s.frame_interval) + " s, got duration = " + toml_double(s.duration) +
+               " s");
+  }
+  if (s.duration / s.frame_interval > kMaxFrames) {
+    const auto [n, key] =
+        blame({{root.get("frame_interval"), "frame_interval"}, {root.get("duration"), "duration"}});
+    r.fail(n, key,
+           "expected at most " + cloth::shortest_decimal(kMaxFrames) +
+               " frames, got duration / frame_interval = " +
+               cloth::shortest_decimal(s.duration / s.frame_interval));
+  }
+  s.snapshot_interval =
+      read_frame_multiple(r, root, "snapshot_interval", s.snapshot_interval, s.frame_interval);
+  // left out: 1/30 s rounded to a whole number of frames (at least one)
+  const long long frames = std::max(1LL, std::llround(1.0 / 30.0 / s.frame_interval));
+  s.animation_interval = read_frame_multiple(r, root, "animation_interval",
+                                             double(frames) * s.frame_interval, s.frame_interval);
+  s.blowup_strain = r.number(at, "blowup_strain", s.blowup_strain, kPositive);
+  s.blowup_energy = r.number(at, "blowup_energy", s.blowup_energy, kPositive);
+}
+
+/// The [[handle]] tables: their particles, each in one handle and no [[constraint]].
+void read_handles(const Reader& r, const toml::table& root, Scenario& s) {
+  const auto tables = r.tables({root, ""}, "handle");
+  std::vector<int> owner(static_cast<size_t>(s.scene.particle_count()), -1);
+  std::vector<std::vector<std::uint8_t>> held_by;  // each constraint's mask
+  for (const ConstraintSpec& c : s.constraints) held_by.push_back(held_mask(s.scene.cloth, {c}));
+  for (size_t k = 0; k < tables.size(); ++k) {
+    const std::string path = "handle." + std::to_string(k);
+    const At at{*tables[k], path};
+    HandleSpec h;
+    h.select = read_constraint(r, *tables[k], path, s.scene.cloth, kHandleKeys);
+    h.motion = read_motion(r, at, false);
+    cloth::Handle handle;
+    handle.motion = h.motion;
+    const std::vector<std::uint8_t> mask = held_mask(s.scene.cloth, {h.select});
+    for (size_t p = 0; p < mask.size(); ++p) {
+      if (!mask[p]) continue;
+      const std::string which = "particle (" + std::to_string(p % size_t(s.scene.cloth.nu)) + ", " +
+                                std::to_string(p / size_t(s.scene.cloth.nu)) + ")";
+      const toml::node* blame_at = tables[k]->get("select") ? tables[k]->get("select") : tables[k];
+      for (size_t c = 0; c < s.constraints.size(); ++c)
+        if (held_by[c][p])
+          r.fail(blame_at, at.key("select"),
+                 "expected particles no [[constraint]] holds, got " + which +
+                     ", which constraint." + std::to_string(c) + " holds too");
+      if (owner[p] >= 0)
+        r.fail(blame_at, at.key("select"),
+               "expected particles no other handle moves, got " + which + ", which handle." +
+                   std::to_string(owner[p]) + " moves too");
+      owner[p] = static_cast<int>(k);
+      handle.particles.push_back(static_cast<int>(p));
+    }
+    s.handles.push_back(std::move(h));
+    s.scene.handles.push_back(std::move(handle));
+  }
+}
+
+/// Gravity, wind, the cloth, its constraints and handles, and the colliders.
+void read_scene(const Reader& r, const toml::table& root, Scenario& s) {
+  const At at{root, ""};
+  s.scene.gravity = r.vec3(at, "gravity", s.scene.gravity);
+  s.scene.cloth = read_cloth(r, r.table(at, "cloth"));
+  s.scene.wind = r.vec3(at, "wind", s.scene.wind);
+  if (!s.scene.wind.isZero() && s.scene.cloth.air_drag == 0.0)
+    r.fail(root.get("wind"), "wind",
+           "expected cloth.air_drag > 0 with a wind (without air drag the wind does nothing)");
+  const auto constraints = r.tables(at, "constraint");
+  for (size_t k = 0; k < constraints.size(); ++k)
+    s.constraints.push_back(
+        read_constraint(r, *constraints[k], "constraint." + std::to_string(k), s.scene.cloth));
+  s.scene.held = held_mask(s.scene.cloth, s.constraints);
+  read_handles(r, root, s);
+  s.scene.spheres = read_all<cloth::Sphere>(r, root, "sphere", read_sphere);
+  s.scene.shapes.planes = read_all<cloth::HalfSpace>(r, root, "plane", read_plane);
+  s.scene.shapes.boxes = read_all<cloth::Box>(r, root, "box", read_box);
+  s.scene.shapes.capsules = read_all<cloth::Capsule>(r, root, "capsule", read_capsule);
+  s.scene.shapes.cylinders = read_all<cloth::Cylinder>(r, root, "cylinder", read_cylinder);
+}
+
+/// Every [[engine]], with unique names and steps that divide the frame interval.
+void read_engines(const Reader& r, const toml::table& root,
+                  const std::vector<const toml::table*>& engines, Scenario& s) {
+  if (engines.empty())
+    r.fail(root.get("engine") ? root.get("engine") : &root, "engine",
+           "expected at least one [[engine]], got none");
+  std::map<std::string, int> first_with_name;
+  for (size_t k = 0; k < engines.size(); ++k) {
+    const toml::table& t = *engines[k];
+    EngineSpec e = read_engine(r, t, static_cast<int>(k));
+    const std::string path = "engine." + e.name;
+    if (const auto [it, added] = first_with_name.emplace(e.name, static_cast<int>(k)); !added)
+      r.fail(t.get("name") ? t.get("name") : &t, "engine." + std::to_string(k) + ".name",
+             "expected a name no other engine has, got " + toml_string(e.name) + ", which engine " +
+                 std::to_string(it->second) + " has too" +
+                 (t.get("name") ? "" : " (derived from kind and integrator: name each engine)"));
+    if (!whole_multiple(s.frame_interval, e.dt)) {
+      const auto [n, key] = blame({{t.get("dt") ? t.get("dt") : &t, path + ".dt"},
+                                   {root.get("frame_interval"), "frame_interval"}});
+      r.fail(n, key,
+             "expected frame_interval to be a whole multiple of dt, got frame_interval = " +
+                 toml_double(s.frame_interval) + " s and dt = " + toml_double(e.dt) + " s");
+    }
+    if (s.duration / e.dt > kMaxSteps)
+      r.fail(t.get("dt") ? t.get("dt") : &t, path + ".dt",
+             "expected a dt that takes at most " + cloth::shortest_decimal(kMaxSteps) +
+                 " steps over duration = " + toml_double(s.duration) +
+                 " s, got dt = " + toml_double(e.dt) + " s (" +
+                 cloth::shortest_decimal(s.duration / e.dt) + " steps)");
+    s.engines.push_back(std::move(e));
+  }
+}
+
+/// The reference engine, by name; the first one unless given.
+void read_reference(const Reader& r, const toml::table& root, Scenario& s) {
+  s.reference = s.engines.front().name;
+  if (const toml::node* n = root.get("reference")) {
+    s.reference = r.string({root, ""}, "reference", "");
+    Keys names;
+    for (const EngineSpec& e : s.engines) names.push_back(e.name);
+    if (!contains(names, s.reference))
+      r.fail(n, "reference",
+             "expected the name of an engine, got " + toml_string(s.reference) +
+                 suggest(s.reference, names));
+  }
+}
+
+/// The node of the dotted scene key (as a refusal names it: "sphere.0.margin") in root.
+const toml::node* scene_node(const toml::table& root, const std::string& key) {
+  toml::node_view<const toml::node> view{root};
+  for (size_t b = 0;;) {
+    const size_t e = key.find('.', b);
+    const std::string part = key.substr(b, e - b);
+    const bool index = !part.empty() && std::all_of(part.begin(), part.end(), ::isdigit);
+    view = index ? view[std::stoul(part)] : view[part];
+    if (e == std::string::npos) break;
+    b = e + 1;
+  }
+  return view.node();
+}
+
+/// Refuses, at the place to blame, an engine that cannot model the scene: a key a --set
+/// override changed among the ones the refusal names, else the engine's kind.
+void refuse_unmodelled(const Reader& r, const toml::table& root, const toml::table& t,
+                       const EngineSpec& e, const cloth::Scene& scene) {
+  const auto refusal = engine_refusal(e, scene);
+  if (!refusal) return;
+  const std::string path = "engine." + e.name;
+  for (const std::string& key : refusal->scene_keys)
+    if (const toml::node* n = scene_node(root, key); from_override(n)) r.fail(n, key, refusal->why);
+  for (const std::string& key : refusal->engine_keys)
+    if (const toml::node* n = t.get(key); from_override(n))
+      r.fail(n, path + "." + key, refusal->why);
+  r.fail(t.get("kind") ? t.get("kind") : &t, path, refusal->why);
+}
+
+/// Keeps the engines named in only (all when empty) and the reference; only they must be able
+/// to model the scene.
+void keep_engines(const Reader& r, const toml::table& root,
+                  const std::vector<const toml::table*>& engines,
+                  const std::vector<std::string>& only, Scenario& s) {
+  Keys names;
+  for (const EngineSpec& e : s.engines) names.push_back(e.name);
+  for (const std::string& name : only)
+    if (!contains(names, name))
+      throw ScenarioError(s.source, "engine",
+                          "expected the name of one of the scenario's engines, got " +
+                              toml_string(name) + suggest(name, names));
+  std::vector<EngineSpec> kept;
+  for (size_t k = 0; k < s.engines.size(); ++k) {
+    EngineSpec& e = s.engines[k];
+    if (!only.empty() && e.name != s.reference &&
+        std::find(only.begin(), only.end(), e.name) == only.end())
+      continue;
+    refuse_unmodelled(r, root, *engines[k], e, s.scene);
+    kept.push_back(std::move(e));
+  }
+  s.engines = std::move(kept);
+}
+
+Scenario read_scenario(const toml::table& root, const std::string& source,
+                       const std::vector<std::string>& only) {
+  const Reader r(source);
+  r.check_keys({root, ""}, kTopKeys);
+  Scenario s;
+  s.source = source;
+  read_header(r, root, s);
+  read_scene(r, root, s);
+  const auto engines = r.tables({root, ""}, "engine");
+  read_engines(r, root, engines, s);
+  read_reference(r, root, s);
+  keep_engines(r, root, engines, only, s);
+  return s;
+}
+
+}  // namespace
+
+Scenario parse_scenario(std::string_view toml_text, const std::string& source_name,
+                        const std::vector<std::string>& overrides,
+                        const std::vector<std::string>& only) {
+  // a structurally extreme file would exhaust the parser's stack before it could complain
+  if (const auto problem = toml_structure_problem(toml_text))
+    throw ScenarioError(source_name + ":" + std::to_string(problem->first), "",
+                        "not a scenario file: " + problem->second);
+  toml::table root;
+  try {
+    root = toml::parse(toml_text, source_name);
+  } catch (const toml::parse_error& e) {
+    const auto line = std::max<toml::source_index>(e.source().begin.line, 1);
+    throw ScenarioError(source_name + ":" + std::to_string(line), "",
+                        "TOML syntax error (column " + std::to_string(e.source().begin.column) +
+                            "): " + std::string(e.description()));
+  }
+  for (const std::string& o : overrides) apply_override(root, o);
+  return read_scenario(root, source_name, only);
+}
+
+Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides,
+                       const std::vector<std::string>& only) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw ScenarioError(path, "", "expected a scenario file, got a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw ScenarioError(path, "",
+                        std::string("cannot open the scenario file: ") + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw ScenarioError(path, "", "cannot read the scenario file");
+  return parse_scenario(text.str(), path, overrides, only);
+}
+
+std::string embedded_default_scenario() {
+  return std::string(reinterpret_cast<const char*>(generated::kSeedScenario),
+                     sizeof generated::kSeedScenario);
+}
+
+}  // namespace clothbench

@@ -1,0 +1,196 @@
+#include "harness/scenario/scenario_overrides.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <optional>
+#include <vector>
+
+#include "cloth/model/scene.hpp"
+#include "harness/scenario/toml_reader.hpp"
+
+namespace clothbench {
+
+namespace {
+
+/// The name an [[engine]] table goes by (given or derived), for --set addressing.
+std::string engine_table_name(const toml::table& t) {
+  if (auto name = t["name"].value<std::string>()) return *name;
+  const std::string kind = t["kind"].value_or(std::string("custom"));
+  const std::string integrator = t["integrator"].value_or(std::string("rk4"));
+  const auto k = parse_engine_kind(kind);
+  const auto i = cloth::parse_integrator(integrator);
+  // a misspelt kind or integrator is refused when the scenario is read; until then it names
+  if (!k) return kind;
+  if (*k == EngineKind::custom && !i) return "custom-" + integrator;
+  return derived_engine_name(*k, i.value_or(cloth::Integrator::rk4));
+}
+
+std::string trim(std::string_view s) {
+  const auto b = s.find_first_not_of(" \t");
+  if (b == std::string_view::npos) return "";
+  return std::string(s.substr(b, s.find_last_not_of(" \t") - b + 1));
+}
+
+/// One TOML value, parsed so that its source reads "--set key"; a bare word is a string.
+toml::table parse_value(const std::string& text, const std::string& where) {
+  if (const auto problem = toml_structure_problem(text))
+    throw ScenarioError(where, "", "cannot read the value: " + problem->second);
+  const auto one_value = [&](const std::string& doc) {
+    toml::table t = toml::parse("v = " + doc + "\n", where);
+    if (t.size() != 1 || !t.contains("v"))
+      throw ScenarioError(where, "", "expected one TOML value after '=', got " + text);
+    return t;
+  };
+  try {
+    return one_value(text);
+  } catch (const toml::parse_error& e) {
+    // what looks like structured TOML must be TOML; anything else is a bare word
+    if (std::string_view("[{\"'").find(text.front()) != std::string_view::npos ||
+        text.find('\n') != std::string::npos)
+      throw ScenarioError(
+          where, "", "cannot read the value " + text + " as TOML: " + std::string(e.description()));
+  }
+  // a bare word: quoted, it can still fail (invalid UTF-8, found by scripts/fuzz)
+  try {
+    return one_value(toml_string(text));
+  } catch (const toml::parse_error& e) {
+    throw ScenarioError(where, "",
+                        "cannot read the value as a string: " + std::string(e.description()));
+  }
+}
+
+/// The table at parent[key], created from init (TOML) when absent.
+toml::table& child_table(toml::table& parent, const std::string& key, const std::string& where,
+                         const std::string& init = "{}") {
+  if (toml::node* n = parent.get(key)) {
+    if (toml::table* t = n->as_table()) return *t;
+    throw ScenarioError(where, "", key + " is " + describe(*n) + " in the scenario, not a table");
+  }
+  toml::table holder = parse_value(init, where);
+  parent.insert_or_assign(key, std::move(*holder.get("v")));
+  return *parent.get(key)->as_table();
+}
+
+/// The index of the [[top]] entry that a --set key's second part names.
+size_t entry_index(toml::array* entries, const std::string& top, const std::string& id,
+                   const std::string& where) {
+  const size_t count = entries ? entries->size() : 0;
+  Keys names;
+  std::vector<std::string> storage;
+  if (top == "engine" && entries) {
+    for (size_t k = 0; k < count; ++k)
+      if (const toml::table* t = entries->get(k)->as_table())
+        storage.push_back(engine_table_name(*t));
+    for (size_t k = 0; k < storage.size(); ++k)
+      if (storage[k] == id) return k;
+    names.assign(storage.begin(), storage.end());
+  }
+  const bool digits = !id.empty() && id.size() < 9 &&
+                      std::all_of(id.begin(), id.end(), [](char c) { return std::isdigit(c); });
+  if (digits && std::stoul(id) < count) return std::stoul(id);
+  if (top == "engine")
+    throw ScenarioError(
+        where, "",
+        "no engine named " + toml_string(id) + (names.empty() ? "" : suggest(id, names)));
+  throw ScenarioError(where, "",
+                      "no " + top + " " + id + ": the scenario has " + std::to_string(count) +
+                          " [[" + top + "]], counted from 0");
+}
+
+/// The keys of one entry of the [[top]] array of tables; nullopt when top is not one.
+std::optional<Keys> entry_keys(const std::string& top) {
+  if (top == "constraint") return kConstraintKeys;
+  if (top == "sphere") return kSphereKeys;
+  if (top == "handle") return kHandleKeys;
+  if (top == "engine") return all_engine_keys();
+  const std::pair<const char*, const Keys*> shapes[] = {{"plane", &kPlaneKeys},
+                                                        {"box", &kBoxKeys},
+                                                        {"capsule", &kCapsuleKeys},
+                                                        {"cylinder", &kCylinderKeys}};
+  for (const auto& [name, own] : shapes) {
+    if (top != name) continue;
+    Keys k = *own;
+    k.insert(k.end(), kColliderKeys.begin(), kColliderKeys.end());
+    return k;
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+void apply_override(toml::table& root, const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos)
+    throw ScenarioError(kOverridePrefix + text, "",
+                        "expected KEY=VALUE, e.g. --set cloth.damping=0");
+  const std::string key = trim(std::string_view(text).substr(0, eq));
+  const std::string value_text = trim(std::string_view(text).substr(eq + 1));
+  const std::string where = kOverridePrefix + key;
+  if (key.empty()) throw ScenarioError(kOverridePrefix + text, "", "expected a key before '='");
+  if (value_text.empty()) throw ScenarioError(where, "", "expected a value after '='");
+  std::vector<std::string> part;
+  for (size_t b = 0;;) {
+    const size_t e = key.find('.', b);
+    part.push_back(key.substr(b, e - b));
+    if (part.back().empty())
+      throw ScenarioError(where, "", "expected a dotted key such as cloth.damping");
+    if (e == std::string::npos) break;
+    b = e + 1;
+  }
+  const auto unknown = [&](const std::string& k, const Keys& known, const std::string& in) {
+    return ScenarioError(
+        where, "",
+        "unknown key " + toml_string(k) + (in.empty() ? "" : " in " + in) + suggest(k, known));
+  };
+  const auto not_a_table = [&](size_t depth) {
+    std::string k = part[0];
+    for (size_t d = 1; d < depth; ++d) k += "." + part[d];
+    return ScenarioError(where, "", k + " is a single value, it has no keys");
+  };
+  const std::string& top = part[0];
+  if (!contains(kTopKeys, top)) throw unknown(top, kTopKeys, "");
+  toml::table holder = parse_value(value_text, where);
+  toml::node& value = *holder.get("v");
+
+  if (part.size() == 1) {
+    root.insert_or_assign(top, std::move(value));
+  } else if (top == "cloth") {
+    toml::table& cloth = child_table(root, "cloth", where);
+    if (!contains(kClothKeys, part[1])) throw unknown(part[1], kClothKeys, "cloth");
+    if (part[1] == "stiffness" && part.size() >= 3) {
+      if (!contains(kStiffnessKeys, part[2]))
+        throw unknown(part[2], kStiffnessKeys, "cloth.stiffness");
+      if (part.size() > 3) throw not_a_table(3);
+      // a missing table means the default stiffnesses; change just the one named
+      const cloth::ClothParams d;
+      toml::table& st = child_table(cloth, "stiffness", where,
+                                    "{ structural = " + toml_double(d.k_structural) +
+                                        ", shear = " + toml_double(d.k_shear) +
+                                        ", bend = " + toml_double(d.k_bend) + " }");
+      st.insert_or_assign(part[2], std::move(value));
+      return;
+    }
+    if (part.size() > 2) throw not_a_table(2);
+    // the two ways of giving the mass replace each other
+    if (part[1] == "particle_mass") cloth.erase("total_mass");
+    if (part[1] == "total_mass") cloth.erase("particle_mass");
+    cloth.insert_or_assign(part[1], std::move(value));
+  } else if (const std::optional<Keys> known = entry_keys(top)) {
+    toml::node* list = root.get(top);
+    const size_t k = entry_index(list ? list->as_array() : nullptr, top, part[1], where);
+    toml::array& entries = *list->as_array();
+    if (part.size() == 2) {
+      entries.replace(entries.cbegin() + static_cast<std::ptrdiff_t>(k), std::move(value));
+      return;
+    }
+    if (!contains(*known, part[2])) throw unknown(part[2], *known, top + "." + part[1]);
+    if (part.size() > 3) throw not_a_table(3);
+    toml::table* entry = entries.get(k)->as_table();
+    if (!entry) throw ScenarioError(where, "", top + "." + part[1] + " is not a table");
+    entry->insert_or_assign(part[2], std::move(value));
+  } else {
+    throw not_a_table(1);
+  }
+}
+
+}  // namespace clothbench

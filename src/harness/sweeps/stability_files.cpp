@@ -1,0 +1,108 @@
+#include "harness/sweeps/stability_files.hpp"
+
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "harness/io/csv_writer.hpp"
+#include "harness/io/output_schema.hpp"
+#include "harness/io/text_file.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_loader.hpp"
+#include "harness/scenario/scenario_writer.hpp"
+
+namespace clothbench {
+
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string field(double v) {
+  return std::isfinite(v) ? format_double(v) : std::string();
+}
+
+/// The options line and the scenario of a sidecar text: the comment lines hold the options.
+std::pair<std::string, std::string> options_and_scenario(const std::string& text) {
+  size_t at = 0;
+  while (at < text.size() && text[at] == '#') {
+    const size_t end = text.find('\n', at);
+    at = end == std::string::npos ? text.size() : end + 1;
+  }
+  const size_t from = text.find("--dt-max");
+  const std::string options =
+      from < at ? text.substr(from, text.find('\n', from) - from) : std::string("(none recorded)");
+  return std::make_pair(options, text.substr(at));
+}
+
+}  // namespace
+
+const char* const kStabilitySidecar = "stability_scenario.toml";
+
+const std::vector<std::string>& stability_header() {
+  static const std::vector<std::string> header = output_header("stability.csv");
+  return header;
+}
+
+std::vector<std::string> stability_fields(const StabilityRow& row) {
+  return {row.engine,
+          row.integrator,
+          field(row.stable_dt),
+          field(row.first_unstable_dt),
+          field(row.predicted_dt),
+          field(row.ratio),
+          row.cause,
+          std::to_string(row.runs),
+          row.rerun,
+          row.rerun_unstable};
+}
+
+StabilityRow stability_row(const CsvRecord& record) {
+  StabilityRow row;
+  row.engine = record.text(0);
+  row.integrator = record.text(1);
+  row.stable_dt = record.number(2, kNaN);
+  row.first_unstable_dt = record.number(3, kInf);
+  row.predicted_dt = record.number(4, kNaN);
+  row.ratio = record.number(5, kNaN);
+  row.cause = record.text(6);
+  row.runs = static_cast<int>(record.integer(7));
+  row.rerun = record.text(8);
+  row.rerun_unstable = record.text(9);
+  row.resumed = true;
+  return row;
+}
+
+std::string stability_sidecar_text(const Scenario& sc, const StabilityOptions& o) {
+  return "# the stability sweep whose rows stability.csv holds; --resume continues it only\n"
+         "# with this scenario and these options:\n"
+         "#   --dt-max " +
+         format_double(o.dt_max) + " --rel-tol " + format_double(o.rel_tol) + "\n" +
+         scenario_to_toml(sc);
+}
+
+void check_stability_resumable(const std::string& dir, const Scenario& sc,
+                               const StabilityOptions& o) {
+  const std::string csv = dir + "stability.csv", sidecar = dir + kStabilitySidecar;
+  const std::string earlier = read_text(sidecar);
+  const std::string now = stability_sidecar_text(sc, o);
+  if (earlier.empty()) {
+    if (!read_text(csv).empty())
+      throw UserError(csv + ": cannot resume: there is no " + kStabilitySidecar +
+                      " beside it to say which scenario and options its rows come "
+                      "from; run without --resume or choose another output folder");
+    return;
+  }
+  if (earlier == now) return;
+  // say which part differs
+  const auto [earlier_options, earlier_scenario] = options_and_scenario(earlier);
+  const auto [options, scenario] = options_and_scenario(now);
+  const std::string what =
+      earlier_scenario != scenario
+          ? "another scenario (or other --set overrides or --engine choices)"
+          : "other options (" + earlier_options + " then, " + options + " now)";
+  throw UserError(sidecar + ": cannot resume: the folder holds a stability sweep of " + what +
+                  "; run without --resume or choose another output folder");
+}
+
+}  // namespace clothbench

@@ -1,0 +1,28 @@
+#include "harness/sweeps/sweep.hpp"
+
+#include "harness/io/csv_writer.hpp"
+
+namespace clothbench {
+
+EngineSpec with_integrator_and_dt(const EngineSpec& e, std::optional<cloth::Integrator> integrator,
+                                  double dt) {
+  EngineSpec out = e;
+  out.dt = dt;
+  if (e.kind == EngineKind::custom && integrator) out.solver.integrator = *integrator;
+  return out;
+}
+
+std::string integrator_label(std::optional<cloth::Integrator> integrator) {
+  return integrator ? cloth::integrator_name(*integrator) : "";
+}
+
+std::string rerun_overrides(const EngineSpec& e) {
+  std::string s;
+  if (e.kind == EngineKind::custom)
+    s += "--set engine." + e.name + ".integrator=" + cloth::integrator_name(e.solver.integrator) +
+         " ";
+  s += "--set engine." + e.name + ".dt=" + format_double(e.dt);
+  return s;
+}
+
+}  // namespace clothbench
