@@ -41,6 +41,7 @@ std::vector<OutputColumn> map_columns() {
   return columns;
 }
 
+// the run's per-engine tables
 std::vector<OutputFile> run_files() {
   return {
       {"summary.csv",
@@ -93,41 +94,45 @@ std::vector<OutputFile> run_files() {
          "particles in contact at the frame's last step; empty when the engine cannot say"},
         {"contact_fx", "N", "total contact force on the cloth, x; empty when unknown"},
         {"contact_fy", "N", "total contact force on the cloth, y; empty when unknown"},
-        {"contact_fz", "N", "total contact force on the cloth, z; empty when unknown"}}},
-      {"divergence.csv",
-       "clothbench run, in the run folder",
-       "one engine other than the reference at one frame both logged",
-       {kEngine,
-        {"reference", "text", "the reference engine's name"},
-        kT,
-        {"rms_distance", "m", "RMS over particles of the distance to the reference"},
-        {"max_distance", "m", "largest particle distance to the reference"},
-        {"com_distance", "m", "distance between the two centres of mass"},
-        {"energy_difference", "J", "total energy minus the reference's"},
-        {"shadow_area_difference", "m^2", "shadow area minus the reference's"}}},
-      {"snapshots.csv",
-       "clothbench run, in the run folder",
-       "one particle of one engine at one kept shape (initial, final, every snapshot_interval)",
-       {kEngine,
-        kT,
-        {"i", "count", "grid index along u"},
-        {"j", "count", "grid index along v"},
-        {"x", "m", "position, x"},
-        {"y", "m", "position, y"},
-        {"z", "m", "position, z"}}},
-      {"attribution.csv",
-       "clothbench run --explain, in the run folder",
-       "one Bullet engine's distance to the reference, at the final frame or its largest",
-       {{"engine", "text", "the Bullet engine"},
-        {"reference", "text", "the run's reference engine"},
-        {"matched", "text",
-         "the custom engine with the Bullet engine's time scheme; empty when none"},
-        {"at", "text", "final (the last common frame) or max (largest over the frames)"},
-        {"t", "s", "the frame of final; of max, the last frame compared"},
-        {"total_rms", "m", "RMS distance of the Bullet engine to the reference"},
-        {"scheme_rms", "m", "RMS distance of the matched engine to the reference"},
-        {"model_rms", "m", "RMS distance of the matched engine to the Bullet engine"},
-        {"note", "text", "why a row has no split, or where it stops short of the end"}}}};
+        {"contact_fz", "N", "total contact force on the cloth, z; empty when unknown"}}}};
+}
+
+// the run's comparisons: each engine against the reference, its shapes, the attribution
+std::vector<OutputFile> comparison_files() {
+  return {{"divergence.csv",
+           "clothbench run, in the run folder",
+           "one engine other than the reference at one frame both logged",
+           {kEngine,
+            {"reference", "text", "the reference engine's name"},
+            kT,
+            {"rms_distance", "m", "RMS over particles of the distance to the reference"},
+            {"max_distance", "m", "largest particle distance to the reference"},
+            {"com_distance", "m", "distance between the two centres of mass"},
+            {"energy_difference", "J", "total energy minus the reference's"},
+            {"shadow_area_difference", "m^2", "shadow area minus the reference's"}}},
+          {"snapshots.csv",
+           "clothbench run, in the run folder",
+           "one particle of one engine at one kept shape (initial, final, every snapshot_interval)",
+           {kEngine,
+            kT,
+            {"i", "count", "grid index along u"},
+            {"j", "count", "grid index along v"},
+            {"x", "m", "position, x"},
+            {"y", "m", "position, y"},
+            {"z", "m", "position, z"}}},
+          {"attribution.csv",
+           "clothbench run --explain, in the run folder",
+           "one Bullet engine's distance to the reference, at the final frame or its largest",
+           {{"engine", "text", "the Bullet engine"},
+            {"reference", "text", "the run's reference engine"},
+            {"matched", "text",
+             "the custom engine with the Bullet engine's time scheme; empty when none"},
+            {"at", "text", "final (the last common frame) or max (largest over the frames)"},
+            {"t", "s", "the frame of final; of max, the last frame compared"},
+            {"total_rms", "m", "RMS distance of the Bullet engine to the reference"},
+            {"scheme_rms", "m", "RMS distance of the matched engine to the reference"},
+            {"model_rms", "m", "RMS distance of the matched engine to the Bullet engine"},
+            {"note", "text", "why a row has no split, or where it stops short of the end"}}}};
 }
 
 std::vector<OutputFile> sweep_files() {
@@ -250,7 +255,7 @@ std::string json_string(const std::string& s) {
 const std::vector<OutputFile>& output_files() {
   static const std::vector<OutputFile> files = [] {
     std::vector<OutputFile> all = run_files();
-    for (auto group : {sweep_files(), baseline_files()})
+    for (auto group : {comparison_files(), sweep_files(), baseline_files()})
       all.insert(all.end(), group.begin(), group.end());
     return all;
   }();

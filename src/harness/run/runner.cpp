@@ -10,7 +10,6 @@
 
 #include "cloth/forces/energies.hpp"
 #include "cloth/forces/spring_forces.hpp"
-#include "harness/build_info.hpp"
 #include "harness/engines/engine_factory.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
