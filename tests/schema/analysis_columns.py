@@ -14,11 +14,11 @@ Usage: analysis_columns.py CLOTHBENCH SOURCE_DIR
 """
 
 import glob
-import json
 import os
 import re
-import subprocess
 import sys
+
+from schema_columns import report, schema
 
 # page.py's tables of shown headers, by the file whose columns they show
 PAGE_TABLES = {
@@ -26,12 +26,6 @@ PAGE_TABLES = {
     "RECOMMENDATION_HEADERS": "recommendation.csv", "CONVERGENCE_HEADERS": "convergence.csv",
     "WORK_PRECISION_HEADERS": "work_precision.csv", "RESOLUTION_HEADERS": "resolution.csv",
 }
-
-
-def schema(clothbench):
-    out = subprocess.run([clothbench, "schema", "--outputs", "--format", "json"], check=True,
-                         capture_output=True, text=True).stdout
-    return {f["name"]: [c["name"] for c in f["columns"]] for f in json.loads(out)["files"]}
 
 
 def declared_errors(columns, schemas, page):
@@ -81,10 +75,7 @@ def main(argv):
     columns = schema(clothbench)
     errors = declared_errors(columns, csvio.SCHEMAS, page)
     errors += undeclared_errors(columns, csvio.SCHEMAS, source)
-    for e in errors:
-        print(e, file=sys.stderr)
-    print(f"{len(csvio.SCHEMAS)} analysis schemas checked against clothbench's")
-    return 1 if errors else 0
+    return report(errors, f"{len(csvio.SCHEMAS)} analysis schemas checked against clothbench's")
 
 
 if __name__ == "__main__":

@@ -11,20 +11,12 @@ Usage: output_headers.py CLOTHBENCH SOURCE_DIR WORK_DIR
 """
 
 import glob
-import json
 import os
 import shutil
 import subprocess
 import sys
 
-VARIED = "<varied key>"
-
-
-def schema(clothbench):
-    """file name -> list of column names, from the command's JSON."""
-    out = subprocess.run([clothbench, "schema", "--outputs", "--format", "json"], check=True,
-                         capture_output=True, text=True).stdout
-    return {f["name"]: [c["name"] for c in f["columns"]] for f in json.loads(out)["files"]}
+from schema_columns import VARIED, report, schema
 
 
 def run(clothbench, *args):
@@ -85,10 +77,7 @@ def main(argv):
                           f"{','.join(columns[name])}")
     for name in sorted(set(columns) - seen):
         errors.append(f"{name}: in the schema, but no command here wrote it")
-    for e in errors:
-        print(e, file=sys.stderr)
-    print(f"{len(seen)} files checked against the schema")
-    return 1 if errors else 0
+    return report(errors, f"{len(seen)} files checked against the schema")
 
 
 if __name__ == "__main__":

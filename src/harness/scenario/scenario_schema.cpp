@@ -3,9 +3,9 @@
 #include <limits>
 #include <sstream>
 
-#include "format/number_format.hpp"
 #include "cloth/model/scene.hpp"
 #include "cloth/solvers/solver_options.hpp"
+#include "format/number_format.hpp"
 #include "harness/scenario/engine_kind.hpp"
 #include "harness/scenario/scenario.hpp"
 #include "harness/scenario/scenario_format.hpp"
@@ -75,6 +75,10 @@ class Rows {
     k.range = one_of(choices);
     m_out.push_back(std::move(k));
   }
+  /// A point or vector [x, y, z] of any finite numbers.
+  void vector(const char* key, const char* unit, const cloth::Vector3& def, const char* meaning) {
+    other(key, "[x, y, z]", unit, vec3(def), "any finite numbers", meaning);
+  }
   /// Anything else: type, unit, default and range as text.
   void other(const char* key, const char* type, const char* unit, const std::string& def,
              const std::string& range, const char* meaning) {
@@ -124,10 +128,8 @@ void top_keys(std::vector<ScenarioKey>& out) {
            "a run is unstable once its energy error exceeds this times the run's energy scale");
   r.other("reference", "string", "", "the first engine", "an engine's name",
           "the engine the others are compared against");
-  r.other("gravity", "[x, y, z]", "m/s^2", vec3(scene.gravity), "any finite numbers",
-          "gravitational acceleration");
-  r.other("wind", "[x, y, z]", "m/s", vec3(scene.wind), "any finite numbers",
-          "air velocity; needs cloth.air_drag > 0");
+  r.vector("gravity", "m/s^2", scene.gravity, "gravitational acceleration");
+  r.vector("wind", "m/s", scene.wind, "air velocity; needs cloth.air_drag > 0");
   r.other("cloth", "table", "", "the default cloth", "", "the cloth grid and its material");
   r.other("constraint", "array of tables", "", "none", "",
           "[[constraint]]: particles held in place, on some or all axes");
@@ -153,8 +155,7 @@ void cloth_keys(std::vector<ScenarioKey>& out) {
           "[" + shortest_decimal(c.size_u) + ", " + shortest_decimal(c.size_v) + "]",
           std::string(kNonNegative.text) + ", > 0 along a direction with several particles",
           "extent of the flat cloth along u and v");
-  r.other("center", "[x, y, z]", "m", vec3(c.center), "any finite numbers",
-          "centre of the flat initial cloth");
+  r.vector("center", "m", c.center, "centre of the flat initial cloth");
   r.choice("plane", quoted(plane_name(c.plane)), kPlanes,
            "orientation of the initial cloth: xz horizontal, xy vertical");
   r.number("particle_mass", "kg", c.particle_mass, kPositive,
@@ -191,9 +192,7 @@ void selection_keys(std::vector<ScenarioKey>& out, const char* table, bool hold)
 
 void motion_keys(Rows& r, bool velocity) {
   const cloth::Motion m;
-  if (velocity)
-    r.other("velocity", "[x, y, z]", "m/s", vec3(m.velocity), "any finite numbers",
-            "constant velocity (not with path)");
+  if (velocity) r.vector("velocity", "m/s", m.velocity, "constant velocity (not with path)");
   r.other("path", "[[t, dx, dy, dz], ...]", "s, m", "none",
           "from [0, 0, 0, 0], times strictly increasing",
           "displacements at times, linear between them, held after the last");
@@ -212,33 +211,30 @@ void collider_keys(std::vector<ScenarioKey>& out, const char* table) {
 void shape_keys(std::vector<ScenarioKey>& out) {
   const cloth::Sphere sphere;
   Rows s(out, "sphere");
-  s.other("center", "[x, y, z]", "m", vec3(sphere.center), "any finite numbers", "centre at t = 0");
+  s.vector("center", "m", sphere.center, "centre at t = 0");
   s.number("radius", "m", sphere.radius, kPositive, "radius");
   collider_keys(out, "sphere");
   const cloth::HalfSpace plane;
   Rows p(out, "plane");
-  p.other("point", "[x, y, z]", "m", vec3(plane.point), "any finite numbers",
-          "a point on the plane at t = 0");
+  p.vector("point", "m", plane.point, "a point on the plane at t = 0");
   p.other("normal", "[x, y, z]", "1", vec3(plane.normal), "non-zero",
           "normal out of the solid (normalised)");
   collider_keys(out, "plane");
   const cloth::Box box;
   Rows b(out, "box");
-  b.other("center", "[x, y, z]", "m", vec3(box.center), "any finite numbers", "centre at t = 0");
+  b.vector("center", "m", box.center, "centre at t = 0");
   b.other("half_extents", "[x, y, z]", "m", vec3(box.half_extents), "> 0 each",
           "half the box's size along each axis");
   collider_keys(out, "box");
   const cloth::Capsule capsule;
   Rows c(out, "capsule");
-  c.other("a", "[x, y, z]", "m", vec3(capsule.a), "any finite numbers",
-          "one end of the axis at t = 0");
+  c.vector("a", "m", capsule.a, "one end of the axis at t = 0");
   c.other("b", "[x, y, z]", "m", vec3(capsule.b), "different from a", "the other end of the axis");
   c.number("radius", "m", capsule.radius, kPositive, "radius around the axis");
   collider_keys(out, "capsule");
   const cloth::Cylinder cylinder;
   Rows y(out, "cylinder");
-  y.other("center", "[x, y, z]", "m", vec3(cylinder.center), "any finite numbers",
-          "centre at t = 0");
+  y.vector("center", "m", cylinder.center, "centre at t = 0");
   y.number("radius", "m", cylinder.radius, kPositive, "radius");
   y.number("height", "m", cylinder.height, kPositive, "height along y");
   collider_keys(out, "cylinder");
