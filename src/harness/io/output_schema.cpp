@@ -252,6 +252,15 @@ std::string json_string(const std::string& s) {
 
 }  // namespace
 
+std::string markdown_cell(std::string_view text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '|') out += '\\';
+    out += c;
+  }
+  return out;
+}
+
 const std::vector<OutputFile>& output_files() {
   static const std::vector<OutputFile> files = [] {
     std::vector<OutputFile> all = run_files();
@@ -284,7 +293,7 @@ std::string output_schema_markdown() {
     o << "### " << f.name << "\n\nWritten by " << f.written_by << "; one row per " << f.row
       << ".\n\n| column | unit | meaning |\n|---|---|---|\n";
     for (const OutputColumn& c : f.columns)
-      o << "| `" << c.name << "` | " << c.unit << " | " << c.meaning << " |\n";
+      o << "| `" << c.name << "` | " << c.unit << " | " << markdown_cell(c.meaning) << " |\n";
   }
   return o.str();
 }

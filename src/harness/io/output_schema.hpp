@@ -14,7 +14,7 @@ namespace clothbench {
 struct OutputColumn {
   const char* name;
   const char* unit;     // SI: m, s, J, kg, N, m^2, 1 (dimensionless), count; text; 0/1 (a flag)
-  const char* meaning;  // one sentence, no '|'
+  const char* meaning;  // one sentence
 };
 
 /// One CSV file: where it is written, what a row is, and its columns in order.
@@ -34,6 +34,9 @@ const std::vector<OutputFile>& output_files();
 const OutputFile& output_file(std::string_view name);
 /// The column names of that file, in order (map.csv: the fixed columns after the varied keys).
 std::vector<std::string> output_header(std::string_view name);
+
+/// text for a Markdown table cell: '|' escaped as "\|".
+std::string markdown_cell(std::string_view text);
 
 /// One Markdown table per file (column, unit, meaning), each under a "### name" heading.
 std::string output_schema_markdown();

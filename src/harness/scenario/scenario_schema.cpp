@@ -6,6 +6,7 @@
 #include "cloth/model/scene.hpp"
 #include "cloth/solvers/solver_options.hpp"
 #include "format/number_format.hpp"
+#include "harness/io/output_schema.hpp"
 #include "harness/scenario/engine_kind.hpp"
 #include "harness/scenario/scenario.hpp"
 #include "harness/scenario/scenario_format.hpp"
@@ -332,8 +333,9 @@ std::string scenario_schema_markdown() {
   o << "| key | type | unit | default | range | meaning |\n|---|---|---|---|---|---|\n";
   for (const ScenarioKey& k : scenario_keys()) {
     o << "| `" << k.path() << "`" << (k.kind.empty() ? "" : " (" + k.kind + ")") << " | " << k.type
-      << " | " << (k.unit.empty() ? "-" : k.unit) << " | " << k.default_value << " | "
-      << (k.range.empty() ? "-" : k.range) << " | " << k.meaning << " |\n";
+      << " | " << (k.unit.empty() ? "-" : k.unit) << " | " << markdown_cell(k.default_value)
+      << " | " << markdown_cell(k.range.empty() ? "-" : k.range) << " | "
+      << markdown_cell(k.meaning) << " |\n";
   }
   return o.str();
 }

@@ -20,7 +20,7 @@ struct ScenarioKey {
   std::string unit;   // SI unit, "1" for dimensionless, "" when not a quantity
   std::string default_value;  // what a file that leaves the key out gets
   std::string range;          // what the loader accepts ("> 0", "one of ...")
-  std::string meaning;        // one sentence, no '|'
+  std::string meaning;        // one sentence
   // the range the loader checks, for the test that both agree: a number's bound, or an
   // integer's least and greatest value (int_max when unbounded above)
   const Bound* bound = nullptr;
