@@ -5,6 +5,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace clothbench::reference {
 
@@ -18,6 +19,8 @@ enum class SoftbodyStiffness {
 const char* softbody_stiffness_name(SoftbodyStiffness s);
 /// The mode with that name, if any.
 std::optional<SoftbodyStiffness> parse_softbody_stiffness(const std::string& name);
+/// Every mode, in the order above.
+const std::vector<SoftbodyStiffness>& all_softbody_stiffnesses();
 
 /// Options of the Bullet engines (each kind reads its own).
 struct BulletOptions {

@@ -75,10 +75,7 @@ Command add_accuracy_command(CLI::App& app) {
                        "output folder (default: out/<scenario name>-accuracy)");
   accuracy->add_option("--engine,-e", o.engines, "sweep only this engine (repeatable)")
       ->allow_extra_args(false);
-  accuracy
-      ->add_option("--integrator,-i", o.integrators,
-                   "custom engines: only this integrator (repeatable)")
-      ->allow_extra_args(false);
+  add_integrator_option(accuracy, o.integrators, "sweep");
   auto* dts_opt = accuracy->add_option("--dts", a->dts_text,
                                        "time steps to sweep (s), comma separated, e.g. 1e-4,5e-5");
   accuracy

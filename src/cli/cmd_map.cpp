@@ -118,9 +118,7 @@ Command add_map_command(CLI::App& app) {
                   "output folder (default: out/<scenario name>-map)");
   map->add_option("--engine,-e", s.engines, "search only this engine (repeatable)")
       ->allow_extra_args(false);
-  map->add_option("--integrator,-i", s.integrators,
-                  "custom engines: only this integrator (repeatable; default: all six)")
-      ->allow_extra_args(false);
+  add_integrator_option(map, s.integrators, "search");
   map->add_option("--dt-max", s.dt_max, "largest dt tried (s)")
       ->capture_default_str()
       ->check(positive_number());

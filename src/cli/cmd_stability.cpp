@@ -56,10 +56,7 @@ Command add_stability_command(CLI::App& app) {
   stability->add_option("--out,-o", o.out_dir, "output folder (default: out/<scenario name>)");
   stability->add_option("--engine,-e", o.engines, "search only this engine (repeatable)")
       ->allow_extra_args(false);
-  stability
-      ->add_option("--integrator,-i", o.integrators,
-                   "custom engines: only this integrator (repeatable; default: all six)")
-      ->allow_extra_args(false);
+  add_integrator_option(stability, o.integrators, "search");
   stability->add_option("--dt-max", o.dt_max, "largest dt tried (s)")
       ->capture_default_str()
       ->check(positive_number());

@@ -38,5 +38,7 @@ Command add_export_command(CLI::App& app);
 int run_analysis_script(const std::string& name, const std::vector<std::string>& args);
 /// `clothbench list`: the shipped scenarios, engine kinds and integrators.
 Command add_list_command(CLI::App& app);
+/// `clothbench schema`: the scenario keys and the output files' columns as Markdown tables.
+Command add_schema_command(CLI::App& app);
 
 }  // namespace clothbench::cli

@@ -7,6 +7,7 @@
 #include <cstdlib>
 
 #include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_format.hpp"
 
 namespace clothbench::cli {
 
@@ -40,6 +41,27 @@ void add_max_run_seconds(CLI::App* sub, double& seconds) {
                   "wall-clock budget of each engine run (s): a run that takes longer stops and\n"
                   "counts as unstable with cause timeout (default: no limit)")
       ->check(positive_number());
+}
+
+void add_integrator_option(CLI::App* sub, std::vector<cloth::Integrator>& integrators,
+                           const std::string& verb) {
+  const std::string names = join(integrator_names());
+  sub->add_option_function<std::vector<std::string>>(
+         "--integrator,-i",
+         [&integrators, names](const std::vector<std::string>& given) {
+           integrators.clear();
+           for (const std::string& name : given) {
+             const auto i = cloth::parse_integrator(name);
+             if (!i)
+               throw UserError("--integrator " + name +
+                               ": no such integrator (expected one of: " + names + ")");
+             integrators.push_back(*i);
+           }
+         },
+         "custom engines: " + verb + " only this integrator (repeatable; one of " + names +
+             "; default: all " + std::to_string(cloth::all_integrators().size()) + ")")
+      ->type_name("NAME")
+      ->allow_extra_args(false);
 }
 
 void add_shard_option(CLI::App* sub, Shard& shard) {

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "cloth/model/integrator.hpp"
 #include "harness/sweeps/shard.hpp"
 
 namespace clothbench::cli {
@@ -19,6 +20,11 @@ CLI::Validator positive_integer();
 
 /// Adds --max-run-seconds to sub, stored in seconds.
 void add_max_run_seconds(CLI::App* sub, double& seconds);
+
+/// Adds --integrator,-i to sub: repeatable, parsed into integrators (a name that is not an
+/// integrator's is a UserError listing them); its help lists the names from cloth's own table.
+void add_integrator_option(CLI::App* sub, std::vector<cloth::Integrator>& integrators,
+                           const std::string& verb);
 
 /// Adds --shard K/N to sub (a sweep's share for a cluster; shard.hpp), parsed into shard.
 void add_shard_option(CLI::App* sub, Shard& shard);

@@ -159,7 +159,8 @@ TEST_CASE("every stability row replays with clothbench run", "[stability][sweep]
   const std::vector<std::string> base = {"duration=0.3"};
   const Scenario sc = parse_scenario(kScene, "small.toml", base);
   StabilityOptions o = quick_options(dir.str());
-  o.integrators = {"explicit-euler", "midpoint", "implicit-euler"};
+  o.integrators = {cloth::Integrator::explicit_euler, cloth::Integrator::midpoint,
+                   cloth::Integrator::implicit_euler};
   o.dt_max = 0.02;  // implicit Euler reaches it
   const std::vector<StabilityRow> rows = run_stability(sc, o);
   REQUIRE(rows.size() == 3);
@@ -193,7 +194,7 @@ TEST_CASE("a stability search that reaches --dt-max reports a bound, not a ratio
   TempDir dir("dtmax");
   const Scenario sc = parse_scenario(kScene, "small.toml", {"duration=0.3"});
   StabilityOptions o = quick_options(dir.str());
-  o.integrators = {"rk4"};
+  o.integrators = {cloth::Integrator::rk4};
   const double predicted = cloth::predicted_stable_dt(
       cloth::Integrator::rk4, cloth::linear_spectrum(cloth::build_model(sc.scene)));
   o.dt_max = 0.5 * predicted;  // well inside the stable range
@@ -220,7 +221,7 @@ TEST_CASE("a configuration unstable at every dt tried has no stable dt", "[stabi
   // a blow-up strain gravity alone passes within the first millisecond, whatever the dt
   const Scenario sc = parse_scenario(kScene, "small.toml", {"duration=0.3", "blowup_strain=1e-6"});
   StabilityOptions o = quick_options(dir.str());
-  o.integrators = {"symplectic-euler"};
+  o.integrators = {cloth::Integrator::symplectic_euler};
   const std::vector<StabilityRow> rows = run_stability(sc, o);
   REQUIRE(rows.size() == 1);
   const StabilityRow& r = rows[0];
@@ -244,7 +245,7 @@ TEST_CASE("a stability search never reports a dt above --dt-max", "[stability][s
                                      {"frame_interval=0.1", "snapshot_interval=0",
                                       "engine.custom.dt=0.05", "engine.coarse.dt=0.05"});
   StabilityOptions o = quick_options(dir.str());
-  o.integrators = {"implicit-euler", "explicit-euler"};
+  o.integrators = {cloth::Integrator::implicit_euler, cloth::Integrator::explicit_euler};
   o.dt_max = 0.02;
   const std::vector<StabilityRow> rows = run_stability(sc, o);
   REQUIRE(rows.size() == 2);
@@ -266,7 +267,7 @@ TEST_CASE("stability resume runs only the missing rows of the same sweep", "[sta
   TempDir dir("resume");
   const Scenario sc = parse_scenario(kScene, "small.toml", {"duration=0.3"});
   StabilityOptions o = quick_options(dir.str());
-  o.integrators = {"explicit-euler", "midpoint"};
+  o.integrators = {cloth::Integrator::explicit_euler, cloth::Integrator::midpoint};
   const std::vector<StabilityRow> first = run_stability(sc, o);
   REQUIRE(first.size() == 2);
   for (const StabilityRow& r : first) {
@@ -326,7 +327,8 @@ TEST_CASE("the stability sweep does not depend on the number of jobs", "[stabili
   TempDir one("jobs1"), three("jobs3");
   const Scenario sc = parse_scenario(kScene, "small.toml", {"duration=0.3"});
   StabilityOptions o = quick_options(one.str());
-  o.integrators = {"explicit-euler", "symplectic-euler", "midpoint"};
+  o.integrators = {cloth::Integrator::explicit_euler, cloth::Integrator::symplectic_euler,
+                   cloth::Integrator::midpoint};
   o.jobs = 1;
   run_stability(sc, o);
   o.out_dir = three.str();

@@ -8,17 +8,17 @@ namespace cloth {
 
 namespace {
 
-const std::array<std::pair<NewtonMethod, const char*>, 2> kNewtonNames = {
+constexpr std::array<std::pair<NewtonMethod, const char*>, 2> kNewtonNames = {
     {{NewtonMethod::linearized, "linearized"}, {NewtonMethod::line_search, "line-search"}}};
 
-const std::array<std::pair<LinearSolver, const char*>, 5> kSolverNames = {
+constexpr std::array<std::pair<LinearSolver, const char*>, 5> kSolverNames = {
     {{LinearSolver::automatic, "auto"},
      {LinearSolver::cg, "cg"},
      {LinearSolver::block_jacobi_cg, "block-jacobi-cg"},
      {LinearSolver::two_level_cg, "two-level-cg"},
      {LinearSolver::ldlt, "ldlt"}}};
 
-const std::array<std::pair<CgForcing, const char*>, 2> kForcingNames = {
+constexpr std::array<std::pair<CgForcing, const char*>, 2> kForcingNames = {
     {{CgForcing::fixed, "fixed"}, {CgForcing::adaptive, "adaptive"}}};
 
 template <class Table, class Value>
@@ -36,7 +36,27 @@ auto parse_in(const Table& table, std::string_view name)
   return std::nullopt;
 }
 
+template <class Table>
+auto values_in(const Table& table) {
+  std::vector<typename Table::value_type::first_type> values;
+  for (const auto& entry : table) values.push_back(entry.first);
+  return values;
+}
+
 }  // namespace
+
+const std::vector<NewtonMethod>& all_newton_methods() {
+  static const std::vector<NewtonMethod> all = values_in(kNewtonNames);
+  return all;
+}
+const std::vector<LinearSolver>& all_linear_solvers() {
+  static const std::vector<LinearSolver> all = values_in(kSolverNames);
+  return all;
+}
+const std::vector<CgForcing>& all_cg_forcings() {
+  static const std::vector<CgForcing> all = values_in(kForcingNames);
+  return all;
+}
 
 const char* newton_method_name(NewtonMethod m) {
   return name_in(kNewtonNames, m);

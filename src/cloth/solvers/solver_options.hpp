@@ -4,6 +4,7 @@
 
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "cloth/model/integrator.hpp"
 
@@ -44,6 +45,12 @@ std::optional<LinearSolver> parse_linear_solver(std::string_view name);
 const char* cg_forcing_name(CgForcing f);
 /// The forcing with that name, if any.
 std::optional<CgForcing> parse_cg_forcing(std::string_view name);
+
+/// Every Newton method, every linear solver, every forcing: in the order above (the order the
+/// scenario format, the schema and --help list their names).
+const std::vector<NewtonMethod>& all_newton_methods();
+const std::vector<LinearSolver>& all_linear_solvers();
+const std::vector<CgForcing>& all_cg_forcings();
 
 /// Options of the custom engine.
 struct SolverOptions {

@@ -18,6 +18,7 @@
 #include "harness/gate/tolerances_file.hpp"
 #include "harness/io/csv_reader.hpp"
 #include "harness/io/csv_writer.hpp"
+#include "harness/io/output_schema.hpp"
 #include "harness/io/text_file.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/runner.hpp"
@@ -89,10 +90,10 @@ struct Bracket {
 };
 using Brackets = std::map<std::string, Bracket>;  // by "engine/integrator"
 
-const std::vector<std::string> kMetricsHeader = {"engine", "quantity", "value"};
-const std::vector<std::string> kShapeHeader = {"engine", "i", "j", "x", "y", "z"};
-const std::vector<std::string> kStabilityHeader = {"engine", "integrator", "stable_dt",
-                                                   "first_unstable_dt"};
+// the baseline files' columns (output_schema.cpp), as written and as read back
+const std::vector<std::string> kMetricsHeader = output_header("baselines/metrics.csv");
+const std::vector<std::string> kShapeHeader = output_header("baselines/shape.csv");
+const std::vector<std::string> kStabilityHeader = output_header("baselines/stability.csv");
 
 Metrics read_metrics(const fs::path& p) {
   Metrics m;

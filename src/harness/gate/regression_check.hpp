@@ -5,10 +5,10 @@
 ///
 /// A scenario's baseline folder (reference/baselines/<scenario name>/) holds
 ///   tolerances.toml  hand-written: how far each quantity may move, each with its reason
-///   metrics.csv      engine,quantity,value: per-engine summary figures and costs
-///   shape.csv        engine,i,j,x,y,z: the final shape of every engine
-///   stability.csv    engine,integrator,stable_dt,first_unstable_dt (when tolerances.toml
-///                    has a [stability] table)
+///   metrics.csv      per-engine summary figures and costs
+///   shape.csv        the final shape of every engine
+///   stability.csv    the stability limits (when tolerances.toml has a [stability] table)
+/// (their columns: io/output_schema.cpp, printed by `clothbench schema --outputs`)
 ///
 /// Every engine and stability row on either side is gated: one recorded in the baseline that
 /// did not run now fails, and so does one that ran without a baseline.

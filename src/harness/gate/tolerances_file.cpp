@@ -9,6 +9,7 @@
 #include "harness/io/text_file.hpp"
 #include "harness/io/toml_text.hpp"
 #include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_format.hpp"
 
 namespace clothbench {
 
@@ -74,6 +75,22 @@ std::vector<std::string> strings_at(const fs::path& p, toml::node_view<const tom
   return out;
 }
 
+/// An array of integrator names, parsed.
+std::vector<cloth::Integrator> integrators_at(const fs::path& p,
+                                              toml::node_view<const toml::node> node,
+                                              const std::string& where) {
+  std::vector<cloth::Integrator> out;
+  const std::vector<std::string> names = strings_at(p, node, where);
+  for (size_t k = 0; k < names.size(); ++k) {
+    const auto i = cloth::parse_integrator(names[k]);
+    if (!i)
+      throw UserError(where_in(p, *node.as_array()->get(k), where) + "expected one of " +
+                      join(integrator_names(), "\"") + ", got \"" + names[k] + "\"");
+    out.push_back(*i);
+  }
+  return out;
+}
+
 /// [stability]: which searches to gate and how.
 void read_stability_table(const fs::path& p, const toml::table& s, Tolerances& t) {
   require_known_keys(p, s, "stability.", {"engine", "integrators", "rel_tol", "adjacent"});
@@ -84,7 +101,7 @@ void read_stability_table(const fs::path& p, const toml::table& s, Tolerances& t
     throw UserError(where_in(p, *s.get("rel_tol"), "stability.rel_tol") + "expected a number > 0");
   t.stability_adjacent = s["adjacent"].value_or(false);
   if (s.contains("integrators"))
-    t.stability_integrators = strings_at(p, s["integrators"], "stability.integrators");
+    t.stability_integrators = integrators_at(p, s["integrators"], "stability.integrators");
 }
 
 /// [ungated.<engine>]: quantities not gated for that engine, with the reason.

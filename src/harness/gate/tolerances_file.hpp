@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include "cloth/model/integrator.hpp"
+
 namespace clothbench {
 
 /// allowed difference: abs + rel * |baseline|
@@ -25,7 +27,7 @@ struct Tolerances {
   std::map<std::string, Tolerance> quantity;  // by quantity name
   bool stability = false;
   std::string stability_engine;
-  std::vector<std::string> stability_integrators;
+  std::vector<cloth::Integrator> stability_integrators;  // empty: every integrator
   double stability_rel_tol = 0.02;
   bool stability_adjacent = false;  // brackets that only share an end pass too
   // [ungated.<engine>]: quantities not gated for that engine, with the reason

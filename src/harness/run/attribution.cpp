@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "harness/io/csv_writer.hpp"
+#include "harness/io/output_schema.hpp"
 #include "harness/io/user_error.hpp"
 
 namespace clothbench {
@@ -152,8 +153,7 @@ std::vector<AttributionRow> attribution(const RunResult& result) {
 }
 
 void write_attribution(const RunResult& result, const std::string& dir) {
-  CsvWriter csv(dir + "/attribution.csv", {"engine", "reference", "matched", "at", "t", "total_rms",
-                                           "scheme_rms", "model_rms", "note"});
+  CsvWriter csv(dir + "/attribution.csv", output_header("attribution.csv"));
   for (const AttributionRow& r : attribution(result)) {
     csv.add(r.engine).add(r.reference).add(r.matched).add(r.at).add(r.t).add(r.total_rms);
     if (r.matched.empty())

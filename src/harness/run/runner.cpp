@@ -12,6 +12,7 @@
 #include "cloth/forces/spring_forces.hpp"
 #include "harness/engines/engine_factory.hpp"
 #include "harness/io/csv_writer.hpp"
+#include "harness/io/output_schema.hpp"
 #include "harness/io/staged_folder.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/build_info.hpp"
@@ -416,26 +417,14 @@ namespace {
 
 /// Writes the run's files into dir (ending with '/').
 void write_run_files(const RunResult& result, const std::string& dir) {
-  // clang-format off
-  CsvWriter frames(
-      dir + "frames.csv",
-      {"engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
-       "contact_work", "unbooked", "total_energy", "energy_error", "max_strain", "mean_strain",
-       "com_x", "com_y", "com_z", "min_y", "max_penetration", "shadow_area", "stable",
-       "contacts", "contact_fx", "contact_fy", "contact_fz"});
-  // clang-format on
+  // each file's columns come from its schema (output_schema.cpp)
+  CsvWriter frames(dir + "frames.csv", output_header("frames.csv"));
   write_frames(result, frames);
-  CsvWriter div(dir + "divergence.csv",
-                {"engine", "reference", "t", "rms_distance", "max_distance", "com_distance",
-                 "energy_difference", "shadow_area_difference"});
+  CsvWriter div(dir + "divergence.csv", output_header("divergence.csv"));
   write_divergence(result, div);
-  CsvWriter snaps(dir + "snapshots.csv", {"engine", "t", "i", "j", "x", "y", "z"});
+  CsvWriter snaps(dir + "snapshots.csv", output_header("snapshots.csv"));
   write_snapshots(result, snaps);
-  CsvWriter summary(
-      dir + "summary.csv",
-      {"engine", "kind", "integrator", "dt", "steps", "wall_s", "us_per_step", "force_evals",
-       "stable", "blowup_t", "max_energy_error", "final_rms_vs_reference", "max_rms_vs_reference",
-       "drape_coefficient", "final_kinetic", "static_residual"});
+  CsvWriter summary(dir + "summary.csv", output_header("summary.csv"));
   write_summary(result, summary);
   AtomicFile toml(dir + "scenario.toml");
   toml.write(scenario_to_toml(result.scenario));

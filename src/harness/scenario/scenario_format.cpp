@@ -5,6 +5,8 @@
 #include <cmath>
 
 #include "cloth/model/scene.hpp"
+#include "cloth/solvers/solver_options.hpp"
+#include "reference/bullet/bullet_options.hpp"
 
 namespace clothbench {
 
@@ -42,13 +44,41 @@ const Keys kCylinderKeys = {"center", "radius", "height"};
 const Keys kHandleKeys = {"select", "center", "radius", "list", "path"};
 const Keys kEngineCommonKeys = {"name", "kind", "dt"};
 
-const Keys kPlanes = {"xz", "xy"};
+namespace {
+
+/// The names of values, in order.
+template <class Value, class Name>
+Keys names_of(const std::vector<Value>& values, Name name) {
+  Keys k;
+  for (const Value& v : values) k.push_back(name(v));
+  return k;
+}
+
+}  // namespace
+
+const Keys kPlanes =
+    names_of(std::vector<cloth::Plane>{cloth::Plane::xz, cloth::Plane::xy}, plane_name);
 const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1", "disk", "indices"};
-const Keys kSoftbodyStiffness = {"matched", "klst"};
-const Keys kNewtonMethods = {"linearized", "line-search"};
-const Keys kLinearSolvers = {"auto", "cg", "block-jacobi-cg", "two-level-cg", "ldlt"};
-const Keys kCgForcings = {"fixed", "adaptive"};
-const Keys kContactModes = {"in-solve", "after-step"};
+const Keys kSoftbodyStiffness =
+    names_of(reference::all_softbody_stiffnesses(), reference::softbody_stiffness_name);
+const Keys kNewtonMethods = names_of(cloth::all_newton_methods(), cloth::newton_method_name);
+const Keys kLinearSolvers = names_of(cloth::all_linear_solvers(), cloth::linear_solver_name);
+const Keys kCgForcings = names_of(cloth::all_cg_forcings(), cloth::cg_forcing_name);
+const Keys kContactModes = names_of(std::vector<bool>{true, false}, contact_mode_name);
+
+const char* plane_name(cloth::Plane p) {
+  return p == cloth::Plane::xy ? "xy" : "xz";
+}
+
+std::optional<cloth::Plane> parse_plane(std::string_view name) {
+  for (cloth::Plane p : {cloth::Plane::xz, cloth::Plane::xy})
+    if (name == plane_name(p)) return p;
+  return std::nullopt;
+}
+
+const char* contact_mode_name(bool in_solve) {
+  return in_solve ? "in-solve" : "after-step";
+}
 
 Keys engine_kind_names() {
   Keys k;
@@ -57,9 +87,7 @@ Keys engine_kind_names() {
 }
 
 Keys integrator_names() {
-  Keys k;
-  for (cloth::Integrator i : cloth::all_integrators()) k.push_back(cloth::integrator_name(i));
-  return k;
+  return names_of(cloth::all_integrators(), cloth::integrator_name);
 }
 
 Keys all_engine_keys() {

@@ -4,11 +4,13 @@
 /// and the naming and timing rules the loader, the --set overrides and the writer share.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "cloth/model/integrator.hpp"
+#include "cloth/model/scene.hpp"
 #include "harness/scenario/engine_kind.hpp"
 
 namespace clothbench {
@@ -30,7 +32,9 @@ extern const Keys kCylinderKeys;
 extern const Keys kHandleKeys;
 extern const Keys kEngineCommonKeys;  // keys every [[engine]] may have
 
-// the values of the enumerated keys
+// the values of the enumerated keys: each spelled once, beside its enum (cloth's integrators
+// and solver options, the Bullet options, the engine kinds) or here (planes, contact modes,
+// selections), and listed from there
 extern const Keys kPlanes;
 extern const Keys kSelections;
 extern const Keys kSoftbodyStiffness;
@@ -38,6 +42,13 @@ extern const Keys kNewtonMethods;
 extern const Keys kLinearSolvers;
 extern const Keys kCgForcings;
 extern const Keys kContactModes;
+
+/// "xz" or "xy".
+const char* plane_name(cloth::Plane p);
+/// The plane with that name, if any.
+std::optional<cloth::Plane> parse_plane(std::string_view name);
+/// The contacts key's spelling of SolverOptions::contacts_in_solve: "in-solve" or "after-step".
+const char* contact_mode_name(bool in_solve);
 
 /// The names of the engine kinds, in engine_kind_table() order.
 Keys engine_kind_names();

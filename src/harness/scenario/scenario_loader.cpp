@@ -51,7 +51,7 @@ cloth::ClothParams read_cloth(const Reader& r, const toml::table* table) {
   c.size_u = size[0];
   c.size_v = size[1];
   c.center = r.vec3(at, "center", c.center);
-  c.plane = r.choice(at, "plane", "xz", kPlanes) == "xz" ? cloth::Plane::xz : cloth::Plane::xy;
+  c.plane = *parse_plane(r.choice(at, "plane", plane_name(c.plane), kPlanes));
 
   // mass: one of the two ways of giving it
   const toml::node* pm = table->get("particle_mass");
@@ -328,12 +328,14 @@ std::string read_line_search_choice(const Reader& r, const At& at, const cloth::
 /// cg_forcing and contacts: adaptive forcing and contacts in the solve by default with
 /// line-search.
 void read_line_search_keys(const Reader& r, const At& at, cloth::SolverOptions& o) {
-  o.cg_forcing = *cloth::parse_cg_forcing(
-      read_line_search_choice(r, at, o, "cg_forcing", kCgForcings, "adaptive", "fixed",
-                              "the linearized step has no Newton residual to adapt to"));
+  o.cg_forcing = *cloth::parse_cg_forcing(read_line_search_choice(
+      r, at, o, "cg_forcing", kCgForcings, cloth::cg_forcing_name(cloth::CgForcing::adaptive),
+      cloth::cg_forcing_name(cloth::CgForcing::fixed),
+      "the linearized step has no Newton residual to adapt to"));
   o.contacts_in_solve =
-      read_line_search_choice(r, at, o, "contacts", kContactModes, "in-solve", "after-step",
-                              "the linearized step resolves contacts after the step") == "in-solve";
+      read_line_search_choice(
+          r, at, o, "contacts", kContactModes, contact_mode_name(true), contact_mode_name(false),
+          "the linearized step resolves contacts after the step") == contact_mode_name(true);
 }
 
 /// The options of e's kind, read from t.

@@ -29,7 +29,7 @@ void write_custom_options(std::ostream& o, const cloth::SolverOptions& so) {
     << "cg_tolerance = " << toml_double(so.cg_tolerance) << "\n"
     << "cg_max_iterations = " << so.cg_max_iterations << "\n"
     << "cg_forcing = " << toml_string(cloth::cg_forcing_name(so.cg_forcing)) << "\n"
-    << "contacts = " << toml_string(so.contacts_in_solve ? "in-solve" : "after-step") << "\n"
+    << "contacts = " << toml_string(contact_mode_name(so.contacts_in_solve)) << "\n"
     << "clamp_compressed = " << (so.clamp_compressed ? "true" : "false") << "\n"
     << "substeps = " << so.substeps << "  # xpbd\n"
     << "iterations = " << so.iterations << "  # xpbd (per substep), projective\n";
@@ -137,7 +137,7 @@ std::string scenario_to_toml(const Scenario& s) {
     << "particles = [" << c.nu << ", " << c.nv << "]\n"
     << "size = " << vec({c.size_u, c.size_v}) << "  # m\n"
     << "center = " << vec({c.center.x(), c.center.y(), c.center.z()}) << "  # m\n"
-    << "plane = " << (c.plane == cloth::Plane::xz ? "\"xz\"" : "\"xy\"") << "\n";
+    << "plane = " << toml_string(plane_name(c.plane)) << "\n";
   if (c.total_mass > 0)
     o << "total_mass = " << d(c.total_mass) << "  # kg\n";
   else

@@ -4,6 +4,7 @@
 #include <limits>
 
 #include "harness/io/csv_writer.hpp"
+#include "harness/io/output_schema.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/sweeps/accuracy_recommendation.hpp"
 
@@ -13,9 +14,6 @@ namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-
-const std::vector<std::string> kReferenceHeader = {"study",     "engine",      "integrator", "dt",
-                                                   "particles", "error_floor", "rerun"};
 
 std::string optional_double(double v) {
   return std::isfinite(v) ? format_double(v) : "";
@@ -29,16 +27,12 @@ bool stable_flag(const CsvRecord& record, size_t column) {
 }  // namespace
 
 const std::vector<std::string>& work_precision_header() {
-  static const std::vector<std::string> header = {
-      "engine", "integrator",       "dt",          "stable",        "error_final", "error_max",
-      "wall_s", "wall_s_per_sim_s", "force_evals", "cg_iterations", "rerun"};
+  static const std::vector<std::string> header = output_header("work_precision.csv");
   return header;
 }
 
 const std::vector<std::string>& resolution_header() {
-  static const std::vector<std::string> header = {
-      "engine",           "integrator",  "particles",     "dt",   "stable", "error_final",
-      "wall_s_per_sim_s", "force_evals", "cg_iterations", "rerun"};
+  static const std::vector<std::string> header = output_header("resolution.csv");
   return header;
 }
 
@@ -106,7 +100,7 @@ AccuracyRow resolution_row(const CsvRecord& f) {
 
 void write_references(const std::string& path, const std::vector<AccuracyReference>& refs,
                       const std::vector<std::string>& reruns) {
-  CsvWriter w(path, kReferenceHeader);
+  CsvWriter w(path, output_header("reference.csv"));
   for (size_t i = 0; i < refs.size(); ++i) {
     const AccuracyReference& r = refs[i];
     w.add(r.study).add(r.engine).add(std::string("rk4")).add(r.dt).add(r.nu * r.nv);
@@ -139,7 +133,7 @@ void check_resumable_reference(const std::string& path,
 }
 
 void write_convergence(const std::string& path, const std::vector<ConvergenceFit>& fits) {
-  CsvWriter w(path, {"engine", "integrator", "order", "points"});
+  CsvWriter w(path, output_header("convergence.csv"));
   for (const ConvergenceFit& fit : fits)
     w.add(fit.engine).add(fit.integrator).add(optional_double(fit.order)).add(fit.points).end_row();
   w.commit();
@@ -147,8 +141,7 @@ void write_convergence(const std::string& path, const std::vector<ConvergenceFit
 
 void write_recommendations(const std::string& path, const std::vector<Recommendation>& recs,
                            double tolerance) {
-  CsvWriter w(path, {"scope", "engine", "integrator", "dt", "error_max", "wall_s_per_sim_s",
-                     "tolerance", "cost"});
+  CsvWriter w(path, output_header("recommendation.csv"));
   for (const Recommendation& r : recs) {
     w.add(r.scope).add(r.engine);
     if (r.found)
@@ -162,8 +155,7 @@ void write_recommendations(const std::string& path, const std::vector<Recommenda
 
 void write_resolution_recommendations(const std::string& path,
                                       const std::vector<Recommendation>& recs, double tolerance) {
-  CsvWriter w(path, {"scope", "engine", "integrator", "particles", "dt", "error_final",
-                     "wall_s_per_sim_s", "tolerance", "cost"});
+  CsvWriter w(path, output_header("resolution_recommendation.csv"));
   for (const Recommendation& r : recs) {
     w.add(r.scope).add(r.engine);
     if (r.found)

@@ -85,28 +85,20 @@ std::vector<EngineSpec> selected_engines(const Scenario& sc, const AccuracyOptio
   return out;
 }
 
-/// The integrators the options name, in cloth::all_integrators() order.
-std::vector<std::string> selected_integrators(const AccuracyOptions& o) {
-  std::string known;
+/// The integrators the options name (all when none), in cloth::all_integrators() order.
+std::vector<cloth::Integrator> selected_integrators(const AccuracyOptions& o) {
+  std::vector<cloth::Integrator> out;
   for (cloth::Integrator i : cloth::all_integrators())
-    known += (known.empty() ? "" : ", ") + std::string(cloth::integrator_name(i));
-  for (const std::string& name : o.integrators)
-    if (!cloth::parse_integrator(name))
-      throw UserError("--integrator " + name + ": no such integrator (expected one of: " + known +
-                      ")");
-  std::vector<std::string> out;
-  for (cloth::Integrator i : cloth::all_integrators()) {
-    const std::string name = cloth::integrator_name(i);
-    if (o.integrators.empty() || std::count(o.integrators.begin(), o.integrators.end(), name) > 0)
-      out.push_back(name);
-  }
+    if (o.integrators.empty() || std::count(o.integrators.begin(), o.integrators.end(), i) > 0)
+      out.push_back(i);
   return out;
 }
 
-/// The integrators swept for engine e: the selected ones for a custom engine, else none ("").
-std::vector<std::string> own_integrators(const EngineSpec& e,
-                                         const std::vector<std::string>& integrators) {
-  return e.kind == EngineKind::custom ? integrators : std::vector<std::string>{""};
+/// The integrators swept for engine e: the selected ones for a custom engine, else none.
+std::vector<std::optional<cloth::Integrator>> own_integrators(
+    const EngineSpec& e, const std::vector<cloth::Integrator>& integrators) {
+  if (e.kind != EngineKind::custom) return {std::nullopt};
+  return {integrators.begin(), integrators.end()};
 }
 
 /// The time steps swept for engine e, largest first.
@@ -145,18 +137,18 @@ std::string rerun_at_grid(const EngineSpec& e, int r, double mass) {
 /// smallest swept dt.
 double plan_time_steps(const Scenario& sc, const AccuracyOptions& o,
                        const std::vector<EngineSpec>& engines,
-                       const std::vector<std::string>& integrators, AccuracyPlan& plan) {
+                       const std::vector<cloth::Integrator>& integrators, AccuracyPlan& plan) {
   double smallest_dt = kInf;
   for (const EngineSpec& e : engines) {
     plan.engine_names.push_back(e.name);
     const std::vector<double> dts = swept_dts(sc, e, o);
     smallest_dt = std::min(smallest_dt, dts.back());
-    for (const std::string& integrator : own_integrators(e, integrators))
+    for (const std::optional<cloth::Integrator>& integrator : own_integrators(e, integrators))
       for (double dt : dts) {
         AccuracyConfig c;
         c.spec = with_integrator_and_dt(e, integrator, dt);
         c.integrator = integrator;
-        c.key = join_key(e.name, integrator, format_double(dt));
+        c.key = join_key(e.name, integrator_label(integrator), format_double(dt));
         c.rerun = rerun_overrides(c.spec);
         plan.dt_keys.push_back(c.key);
         plan.configs.push_back(std::move(c));
@@ -187,9 +179,9 @@ void plan_reference(const Scenario& sc, double smallest_dt, AccuracyPlan& plan) 
   ref.nu = sc.scene.cloth.nu;
   ref.nv = sc.scene.cloth.nv;
   check_divides(sc, ref.dt, "the reference");
-  plan.reference_run.spec = with_integrator_and_dt(base, "rk4", ref.dt);
+  plan.reference_run.spec = with_integrator_and_dt(base, cloth::Integrator::rk4, ref.dt);
   plan.reference_run.rerun = custom ? rerun_overrides(plan.reference_run.spec) : "";
-  plan.floor_run.spec = with_integrator_and_dt(base, "rk4", 2 * ref.dt);
+  plan.floor_run.spec = with_integrator_and_dt(base, cloth::Integrator::rk4, 2 * ref.dt);
   ref.description = "rk4 at dt = " + format_double(ref.dt) + " s (smallest swept dt " +
                     format_double(smallest_dt) + " s / 4) on " + grid_name(ref.nu, ref.nv) +
                     " particles, " + words;
@@ -213,25 +205,27 @@ void plan_grids(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& plan
 /// is rk4 at the smallest dt of either study (explicit --dts may lie above the engines' own)
 /// on the finest grid.
 void plan_resolutions(const Scenario& sc, const std::vector<EngineSpec>& engines,
-                      const std::vector<std::string>& integrators, double smallest_dt,
+                      const std::vector<cloth::Integrator>& integrators, double smallest_dt,
                       AccuracyPlan& plan) {
   const double mass = total_mass(sc);
   for (size_t g = 0; g < plan.grids.size(); ++g)
     for (const EngineSpec& e : engines)
-      for (const std::string& integrator : own_integrators(e, integrators)) {
+      for (const std::optional<cloth::Integrator>& integrator : own_integrators(e, integrators)) {
         AccuracyConfig c;
         c.spec = with_integrator_and_dt(e, integrator, e.dt);
         c.integrator = integrator;
         c.grid = static_cast<int>(g);
-        c.key = join_key(e.name, integrator, std::to_string(plan.sizes[g] * plan.sizes[g]));
+        c.key = join_key(e.name, integrator_label(integrator),
+                         std::to_string(plan.sizes[g] * plan.sizes[g]));
         c.rerun = rerun_at_grid(c.spec, plan.sizes[g], mass);
         plan.configs.push_back(std::move(c));
       }
   // canonical order: engine, integrator, then grids from the coarsest
   for (const EngineSpec& e : engines)
-    for (const std::string& integrator : own_integrators(e, integrators))
+    for (const std::optional<cloth::Integrator>& integrator : own_integrators(e, integrators))
       for (int r : plan.sizes)
-        plan.res_keys.push_back(join_key(e.name, integrator, std::to_string(r * r)));
+        plan.res_keys.push_back(
+            join_key(e.name, integrator_label(integrator), std::to_string(r * r)));
   std::string words;
   const EngineSpec base = reference_spec(sc, &words);
   AccuracyReference& rr = plan.resolution_reference;
@@ -242,7 +236,7 @@ void plan_resolutions(const Scenario& sc, const std::vector<EngineSpec>& engines
   rr.nu = rr.nv = plan.sizes.back();
   rr.description = "rk4 at dt = " + format_double(rr.dt) + " s (the smallest dt swept or run) on " +
                    grid_name(rr.nu, rr.nv) + " particles (the finest grid), " + words;
-  plan.resolution_reference_run.spec = with_integrator_and_dt(base, "rk4", rr.dt);
+  plan.resolution_reference_run.spec = with_integrator_and_dt(base, cloth::Integrator::rk4, rr.dt);
   if (reference_base(sc))
     plan.resolution_reference_run.rerun =
         rerun_at_grid(plan.resolution_reference_run.spec, plan.sizes.back(), mass);
@@ -253,7 +247,7 @@ void plan_resolutions(const Scenario& sc, const std::vector<EngineSpec>& engines
 AccuracyPlan plan_accuracy(const Scenario& sc, const AccuracyOptions& o) {
   check_options(sc, o);
   const std::vector<EngineSpec> engines = selected_engines(sc, o);
-  const std::vector<std::string> integrators = selected_integrators(o);
+  const std::vector<cloth::Integrator> integrators = selected_integrators(o);
   // a scene an engine refuses fails here, before any work
   for (const EngineSpec& e : engines) require_engine_can_model(e, sc.scene, "");
   AccuracyPlan plan;

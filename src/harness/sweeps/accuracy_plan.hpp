@@ -3,6 +3,7 @@
 /// What an accuracy sweep will run, decided before anything runs: the configurations of both
 /// studies in their file order, the references and the grids of the resolution study.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,10 +16,10 @@ namespace clothbench {
 /// One configuration to run: an engine of a scenario with its integrator and dt set.
 struct AccuracyConfig {
   EngineSpec spec;
-  std::string integrator;  // "" for Bullet engines
-  int grid = -1;           // resolution study: index into the grids; -1: time-step study
-  std::string key;         // row key in its table
-  std::string rerun;       // --set overrides that rerun it
+  std::optional<cloth::Integrator> integrator;  // none for Bullet engines
+  int grid = -1;      // resolution study: index into the grids; -1: time-step study
+  std::string key;    // row key in its table
+  std::string rerun;  // --set overrides that rerun it
 };
 
 /// A reference run: rk4 on the custom engine's options, and how to rerun it.

@@ -20,6 +20,7 @@
 #include "harness/scenario/scenario_writer.hpp"
 #include "harness/sweeps/accuracy_files.hpp"
 #include "harness/sweeps/accuracy_plan.hpp"
+#include "harness/sweeps/sweep.hpp"
 #include "harness/sweeps/sweep_table.hpp"
 
 namespace clothbench {
@@ -341,7 +342,7 @@ AccuracyRow measure(const AccuracyPlan& plan, const AccuracyConfig& c, const Tim
   const double simulated_s = double(run.counters.steps) * run.spec.dt;
   AccuracyRow row;
   row.engine = c.spec.name;
-  row.integrator = c.integrator;
+  row.integrator = integrator_label(c.integrator);
   row.dt = c.spec.dt;
   row.stable = run.stable;
   row.wall_s_per_sim_s = simulated_s > 0 ? t.wall_s / simulated_s : 0.0;
@@ -391,8 +392,9 @@ void run_configs(const Scenes& scenes, const std::vector<std::vector<size_t>>& g
     for (size_t i : members) rows.add(plan.configs[i], measure(plan, plan.configs[i], t, refs));
     std::lock_guard<std::mutex> lock(progress_mutex);
     *runs += 1;
-    progress.advance(double(o.repeats) * double(planned_steps(s, first.spec)),
-                     first.spec.name + (first.integrator.empty() ? "" : " " + first.integrator));
+    progress.advance(
+        double(o.repeats) * double(planned_steps(s, first.spec)),
+        first.spec.name + (first.integrator ? " " + integrator_label(first.integrator) : ""));
   });
 }
 

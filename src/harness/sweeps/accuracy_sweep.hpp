@@ -6,19 +6,15 @@
 /// error tolerance (recommendation.csv), and optionally the same question for grid
 /// resolution (resolution.csv).
 ///
-/// Files written into AccuracyOptions::out_dir:
+/// Files written into AccuracyOptions::out_dir (their columns: io/output_schema.cpp, printed
+/// by `clothbench schema --outputs`):
 ///   scenario.toml                   the resolved scenario the sweep ran (checked by resume)
-///   reference.csv                   study,engine,integrator,dt,particles,error_floor,rerun
-///   work_precision.csv              engine,integrator,dt,stable,error_final,error_max,wall_s,
-///                                   wall_s_per_sim_s,force_evals,cg_iterations,rerun
-///   convergence.csv                 engine,integrator,order,points
-///   recommendation.csv              scope,engine,integrator,dt,error_max,wall_s_per_sim_s,
-///                                   tolerance,cost                         (tolerance > 0)
-///   resolution.csv                  engine,integrator,particles,dt,stable,error_final,
-///                                   wall_s_per_sim_s,force_evals,cg_iterations,rerun
-///                                                                          (resolutions)
-///   resolution_recommendation.csv   scope,engine,integrator,particles,dt,error_final,
-///                                   wall_s_per_sim_s,tolerance,cost
+///   reference.csv                   the fine reference runs
+///   work_precision.csv              one row per engine, integrator and dt
+///   convergence.csv                 the fitted order of each engine and integrator
+///   recommendation.csv              the cheapest row within the tolerance   (tolerance > 0)
+///   resolution.csv                  one row per engine, integrator and grid   (resolutions)
+///   resolution_recommendation.csv   the cheapest grid within the tolerance
 ///                                                              (resolutions, tolerance > 0)
 ///
 /// "Cheapest" does not depend on the machine or on the other jobs running: within an engine
@@ -34,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "cloth/model/integrator.hpp"
 #include "harness/engines/material_distance.hpp"
 #include "harness/run/run_parallel.hpp"
 #include "harness/scenario/scenario.hpp"
@@ -47,18 +44,18 @@ namespace clothbench {
 
 /// What to sweep and how.
 struct AccuracyOptions {
-  std::string out_dir;                   // where the CSV files go (created)
-  std::vector<std::string> engines;      // engine names to sweep; empty: every engine
-  std::vector<std::string> integrators;  // custom engines only; empty: every integrator
-  std::vector<double> dts;               // s, explicit time steps; empty: halvings
-  int halvings = 4;                      // time steps per engine: dt, dt/2, ..., dt/2^(halvings-1)
-                                         // from the engine's scenario dt
-  double tolerance = -1;                 // m, > 0: recommend the cheapest config within it
-  std::vector<int> resolutions;          // square grids r x r to compare; empty: none
-  int repeats = 3;                       // wall time is the median of this many runs
-  int jobs = default_jobs();             // threads
-  bool resume = false;                   // keep the rows already in out_dir, run the rest
-  bool progress = true;                  // progress bar on stderr
+  std::string out_dir;                         // where the CSV files go (created)
+  std::vector<std::string> engines;            // engine names to sweep; empty: every engine
+  std::vector<cloth::Integrator> integrators;  // custom engines only; empty: every integrator
+  std::vector<double> dts;                     // s, explicit time steps; empty: halvings
+  int halvings = 4;              // time steps per engine: dt, dt/2, ..., dt/2^(halvings-1)
+                                 // from the engine's scenario dt
+  double tolerance = -1;         // m, > 0: recommend the cheapest config within it
+  std::vector<int> resolutions;  // square grids r x r to compare; empty: none
+  int repeats = 3;               // wall time is the median of this many runs
+  int jobs = default_jobs();     // threads
+  bool resume = false;           // keep the rows already in out_dir, run the rest
+  bool progress = true;          // progress bar on stderr
   Shard shard;  // --shard K/N: only this share of the time-step study's rows (shard.hpp);
                 // the fits and recommendations are left to the merged sweep
 };
@@ -82,8 +79,8 @@ struct AccuracyOptions {
 /// and flushed as they finish and rewritten in a fixed order at the end, so the files do not
 /// depend on o.jobs (apart from wall-time columns).
 ///
-/// Throws UserError for bad options (an unknown engine or integrator, an "indices" constraint
-/// with resolutions), an unwritable out_dir, a malformed file to resume or a resume against a
+/// Throws UserError for bad options (an unknown engine, an "indices" constraint with
+/// resolutions), an unwritable out_dir, a malformed file to resume or a resume against a
 /// different sweep, or a reference that blows up; std::invalid_argument (kept for the tests
 /// that expect it) for a dt that does not divide frame_interval.
 AccuracyReport run_accuracy(const Scenario& sc, const AccuracyOptions& o);

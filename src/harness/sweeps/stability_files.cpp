@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "harness/io/csv_writer.hpp"
+#include "harness/io/output_schema.hpp"
 #include "harness/io/text_file.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario_loader.hpp"
@@ -39,11 +40,7 @@ std::pair<std::string, std::string> options_and_scenario(const std::string& text
 const char* const kStabilitySidecar = "stability_scenario.toml";
 
 const std::vector<std::string>& stability_header() {
-  static const std::vector<std::string> header = {"engine",       "integrator",
-                                                  "stable_dt",    "first_unstable_dt",
-                                                  "predicted_dt", "ratio_measured_to_predicted",
-                                                  "cause",        "runs",
-                                                  "rerun",        "rerun_unstable"};
+  static const std::vector<std::string> header = output_header("stability.csv");
   return header;
 }
 

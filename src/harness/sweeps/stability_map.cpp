@@ -67,7 +67,8 @@ std::string map_sidecar_text(const Scenario& base, const MapOptions& o) {
     for (size_t i = 0; i < k.values.size(); ++i) text += (i ? "," : "") + k.values[i];
   }
   for (const std::string& e : o.search.engines) text += " -e " + e;
-  for (const std::string& i : o.search.integrators) text += " -i " + i;
+  for (cloth::Integrator i : o.search.integrators)
+    text += " -i " + std::string(cloth::integrator_name(i));
   return text + "\n" + stability_sidecar_text(base, o.search);
 }
 

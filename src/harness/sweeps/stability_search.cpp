@@ -16,7 +16,7 @@ namespace {
 /// One search: the runs it makes and the bracket it narrows.
 class Search {
  public:
-  Search(const Scenario& sc, const EngineSpec& engine, const std::string& integrator)
+  Search(const Scenario& sc, const EngineSpec& engine, std::optional<cloth::Integrator> integrator)
       : m_sc(sc), m_engine(engine), m_integrator(integrator), m_horizon(stability_horizon(sc)) {}
 
   /// Whether the run of n steps is stable (counted; cause() says how it failed).
@@ -83,7 +83,7 @@ class Search {
 
   const Scenario& m_sc;
   const EngineSpec& m_engine;
-  const std::string& m_integrator;
+  std::optional<cloth::Integrator> m_integrator;
   double m_horizon;
   std::string m_cause;
   StabilityBracket m_bracket;
@@ -121,8 +121,8 @@ bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause) {
 }
 
 StabilityBracket search_stability_limit(const Scenario& sc, const EngineSpec& engine,
-                                        const std::string& integrator, long long n_start,
-                                        long long n_min, double rel_tol) {
+                                        std::optional<cloth::Integrator> integrator,
+                                        long long n_start, long long n_min, double rel_tol) {
   Search search(sc, engine, integrator);
   // bracket on the step grid first, from the engine's own dt
   if (search.stable(n_start))

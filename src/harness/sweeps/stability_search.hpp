@@ -3,8 +3,10 @@
 /// The search for one configuration's largest stable time step: runs over a fixed horizon in
 /// a whole number of steps, doubled from the engine's dt until one fails, then bisected.
 
+#include <optional>
 #include <string>
 
+#include "cloth/model/integrator.hpp"
 #include "harness/scenario/scenario.hpp"
 
 namespace clothbench {
@@ -41,9 +43,10 @@ struct StabilityBracket {
 /// Searches the limit of engine (integrator and dt applied per run) from n_start steps:
 /// halving n until a run fails or n_min (the --dt-max bound) is reached, or, when n_start
 /// fails, doubling n up to kMaxHalvings times (not after a timeout, nor past kMaxSteps); then
-/// bisecting on a log scale until the bracket is within rel_tol or neighbours on the grid. Throws Interrupted when asked to stop.
+/// bisecting on a log scale until the bracket is within rel_tol or neighbours on the grid. Throws
+/// Interrupted when asked to stop.
 StabilityBracket search_stability_limit(const Scenario& sc, const EngineSpec& engine,
-                                        const std::string& integrator, long long n_start,
-                                        long long n_min, double rel_tol);
+                                        std::optional<cloth::Integrator> integrator,
+                                        long long n_start, long long n_min, double rel_tol);
 
 }  // namespace clothbench

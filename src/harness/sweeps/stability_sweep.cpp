@@ -24,8 +24,8 @@ namespace {
 /// One search to make: an engine, with its integrator set for custom engines.
 struct StabilityConfig {
   EngineSpec engine;
-  std::string integrator;  // "" for Bullet engines
-  std::string key() const { return engine.name + "," + integrator; }
+  std::optional<cloth::Integrator> integrator;  // none for Bullet engines
+  std::string key() const { return engine.name + "," + integrator_label(integrator); }
 };
 
 /// What every search shares: the step grid dt = horizon / n, no larger than dt_max.
@@ -46,38 +46,33 @@ void check_step_count(const Scenario& sc, const StabilityOptions& o) {
   const double steps = stability_horizon(sc) / o.dt_max;
   if (!(steps <= kMaxSteps))
     throw UserError("--dt-max " + format_double(o.dt_max) + ": every run would take at least " +
-                    format_double(steps) + " steps of the " +
-                    format_double(stability_horizon(sc)) + " s horizon, more than " +
-                    format_double(kMaxSteps) + "; expected a larger --dt-max");
+                    format_double(steps) + " steps of the " + format_double(stability_horizon(sc)) +
+                    " s horizon, more than " + format_double(kMaxSteps) +
+                    "; expected a larger --dt-max");
 }
 
-bool selected(const std::vector<std::string>& names, const std::string& name) {
-  return names.empty() || std::find(names.begin(), names.end(), name) != names.end();
+template <class T>
+bool selected(const std::vector<T>& chosen, const T& value) {
+  return chosen.empty() || std::find(chosen.begin(), chosen.end(), value) != chosen.end();
 }
 
 /// The configurations, engine x integrator in scenario and integrator order; throws
-/// UserError for a name the scenario or the engine does not know, or when none is left.
+/// UserError for an engine name the scenario does not know, or when none is left.
 std::vector<StabilityConfig> plan_configs(const Scenario& sc, const StabilityOptions& o) {
   std::vector<StabilityConfig> configs;
   for (const EngineSpec& e : sc.engines) {
     if (!selected(o.engines, e.name)) continue;
     if (e.kind != EngineKind::custom) {
-      configs.push_back({e, ""});
+      configs.push_back({e, std::nullopt});
       continue;
     }
-    for (cloth::Integrator i : cloth::all_integrators()) {
-      const std::string name = cloth::integrator_name(i);
-      if (selected(o.integrators, name))
-        configs.push_back({with_integrator_and_dt(e, name, e.dt), name});
-    }
+    for (cloth::Integrator i : cloth::all_integrators())
+      if (selected(o.integrators, i)) configs.push_back({with_integrator_and_dt(e, i, e.dt), i});
   }
   for (const std::string& name : o.engines)
     if (std::none_of(sc.engines.begin(), sc.engines.end(),
                      [&](const EngineSpec& e) { return e.name == name; }))
       throw UserError("--engine " + name + ": no such engine in " + sc.source);
-  for (const std::string& name : o.integrators)
-    if (!cloth::parse_integrator(name))
-      throw UserError("--integrator " + name + ": unknown integrator");
   if (configs.empty()) throw UserError("nothing to sweep: no engine matches");
   for (const StabilityConfig& c : configs)
     require_engine_can_model(c.engine, sc.scene, "");  // refuse bad scenes early
@@ -91,7 +86,7 @@ std::vector<StabilityConfig> shard_configs(const std::vector<StabilityConfig>& a
   plan = {"stability", "stability.csv", {kStabilitySidecar}, 2, 2, {}};
   std::vector<StabilityConfig> mine;
   for (size_t i = 0; i < all.size(); ++i) {
-    plan.units.push_back(join_fields({all[i].engine.name, all[i].integrator}, 2));
+    plan.units.push_back(join_fields({all[i].engine.name, integrator_label(all[i].integrator)}, 2));
     if (shard.owns(i)) mine.push_back(all[i]);
   }
   return mine;
@@ -154,7 +149,7 @@ StabilityRow measure(const Scenario& sc, const StabilityConfig& c, const Stabili
                      const StepGrid& grid, const cloth::LinearSpectrum& spectrum, double dt_max) {
   StabilityRow row;
   row.engine = c.engine.name;
-  row.integrator = c.integrator;
+  row.integrator = integrator_label(c.integrator);
   row.runs = b.runs;
   const auto spec = [&](long long n) {
     return with_integrator_and_dt(c.engine, c.integrator, grid.dt(n));

@@ -10,8 +10,8 @@
 /// engine's dt divides, since each divides frame_interval) and dt to horizon / N.
 ///
 /// Files written into StabilityOptions::out_dir:
-///   stability.csv             engine,integrator,stable_dt,first_unstable_dt,predicted_dt,
-///                             ratio_measured_to_predicted,cause,runs,rerun,rerun_unstable
+///   stability.csv             one row per engine and integrator (columns: io/output_schema.cpp,
+///                             printed by `clothbench schema --outputs`)
 ///   stability_scenario.toml   the resolved scenario and the search options (checked by resume)
 ///   shard.toml                with --shard: which share of the sweep (shard.hpp)
 
@@ -29,12 +29,12 @@ namespace clothbench {
 
 /// Options of a stability search.
 struct StabilityOptions {
-  std::string out_dir;                   // stability.csv goes here (created)
-  std::vector<std::string> engines;      // engine names; empty: all
-  std::vector<std::string> integrators;  // custom engines; empty: every integrator
-  double dt_max = 0.1;                   // s, no dt above this is tried
-  double rel_tol = 0.02;                 // bisection until first_unstable / stable - 1 <= this
-                                         // (or the two are neighbours on the step grid)
+  std::string out_dir;                         // stability.csv goes here (created)
+  std::vector<std::string> engines;            // engine names; empty: all
+  std::vector<cloth::Integrator> integrators;  // custom engines; empty: every integrator
+  double dt_max = 0.1;                         // s, no dt above this is tried
+  double rel_tol = 0.02;  // bisection until first_unstable / stable - 1 <= this
+                          // (or the two are neighbours on the step grid)
   int jobs = default_jobs();
   bool resume = false;
   bool progress = true;
@@ -64,9 +64,9 @@ struct StabilityRow {
 
 /// Finds the limits: from the engine's dt (or dt_max when that is smaller), doubling until a
 /// run is unstable (halving up to 10 times first if the engine's own dt is unstable), then
-/// bisection on a log scale to rel_tol. Throws UserError for bad options (an unknown engine or
-/// integrator), an unwritable out_dir, a malformed stability.csv to resume, or a resume
-/// against a sweep of another scenario or other options.
+/// bisection on a log scale to rel_tol. Throws UserError for bad options (an unknown engine),
+/// an unwritable out_dir, a malformed stability.csv to resume, or a resume against a sweep of
+/// another scenario or other options.
 std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptions& o);
 
 }  // namespace clothbench

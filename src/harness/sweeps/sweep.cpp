@@ -1,20 +1,19 @@
 #include "harness/sweeps/sweep.hpp"
 
-#include <stdexcept>
-
 #include "harness/io/csv_writer.hpp"
 
 namespace clothbench {
 
-EngineSpec with_integrator_and_dt(const EngineSpec& e, const std::string& integrator, double dt) {
+EngineSpec with_integrator_and_dt(const EngineSpec& e, std::optional<cloth::Integrator> integrator,
+                                  double dt) {
   EngineSpec out = e;
   out.dt = dt;
-  if (e.kind == EngineKind::custom && !integrator.empty()) {
-    const auto i = cloth::parse_integrator(integrator);
-    if (!i) throw std::invalid_argument("unknown integrator " + integrator);
-    out.solver.integrator = *i;
-  }
+  if (e.kind == EngineKind::custom && integrator) out.solver.integrator = *integrator;
   return out;
+}
+
+std::string integrator_label(std::optional<cloth::Integrator> integrator) {
+  return integrator ? cloth::integrator_name(*integrator) : "";
 }
 
 std::string rerun_overrides(const EngineSpec& e) {

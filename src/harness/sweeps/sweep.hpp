@@ -3,15 +3,22 @@
 /// One configuration of a sweep: an engine of a scenario with its integrator and dt replaced,
 /// and the command-line overrides that repeat it with `clothbench run`.
 
+#include <optional>
 #include <string>
 
+#include "cloth/model/integrator.hpp"
 #include "harness/scenario/scenario.hpp"
 
 namespace clothbench {
 
-/// One custom-engine configuration of a sweep: the engine of a scenario with its integrator
-/// (custom engines only) and dt replaced.
-EngineSpec with_integrator_and_dt(const EngineSpec& e, const std::string& integrator, double dt);
+/// One configuration of a sweep: the engine of a scenario with its dt replaced and, for a
+/// custom engine given one, its integrator.
+EngineSpec with_integrator_and_dt(const EngineSpec& e, std::optional<cloth::Integrator> integrator,
+                                  double dt);
+
+/// The integrator as a sweep's rows and row keys name it: its name, "" for none (a Bullet
+/// engine).
+std::string integrator_label(std::optional<cloth::Integrator> integrator);
 
 /// The --set overrides that make `clothbench run` repeat a sweep row on the scenario file.
 std::string rerun_overrides(const EngineSpec& e);

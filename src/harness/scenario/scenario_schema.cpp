@@ -1,0 +1,343 @@
+#include "harness/scenario/scenario_schema.hpp"
+
+#include <limits>
+#include <sstream>
+
+#include "cloth/model/scene.hpp"
+#include "cloth/solvers/solver_options.hpp"
+#include "format/number_format.hpp"
+#include "harness/io/output_schema.hpp"
+#include "harness/scenario/engine_kind.hpp"
+#include "harness/scenario/scenario.hpp"
+#include "harness/scenario/scenario_format.hpp"
+#include "harness/scenario/toml_reader.hpp"
+#include "reference/bullet/bullet_options.hpp"
+
+namespace clothbench {
+
+namespace {
+
+using cloth::shortest_decimal;
+
+constexpr long long kNoMax = std::numeric_limits<int>::max();
+
+std::string vec3(const cloth::Vector3& v) {
+  return "[" + shortest_decimal(v.x()) + ", " + shortest_decimal(v.y()) + ", " +
+         shortest_decimal(v.z()) + "]";
+}
+
+std::string quoted(const std::string& s) {
+  return "\"" + s + "\"";
+}
+
+std::string one_of(const Keys& keys) {
+  return "one of " + join(keys, "\"");
+}
+
+std::string boolean(bool b) {
+  return b ? "true" : "false";
+}
+
+/// Adds rows to a table's list, the key lists' table at a time.
+class Rows {
+ public:
+  explicit Rows(std::vector<ScenarioKey>& out, std::string table = "", std::string kind = "")
+      : m_out(out), m_table(std::move(table)), m_kind(std::move(kind)) {}
+
+  /// A number the loader checks against bound.
+  void number(const char* key, const char* unit, double def, const Bound& bound,
+              const char* meaning) {
+    ScenarioKey k = row(key, "number", unit, shortest_decimal(def), meaning);
+    k.range = *bound.text ? bound.text : "any finite number";
+    k.bound = &bound;
+    m_out.push_back(std::move(k));
+  }
+  /// A number whose default the loader derives (def says how).
+  void number(const char* key, const char* unit, const std::string& def, const Bound& bound,
+              const char* meaning) {
+    number(key, unit, 0.0, bound, meaning);
+    m_out.back().default_value = def;
+  }
+  /// An integer the loader checks to lie in [min, max] (max kNoMax: no upper limit).
+  void integer(const char* key, long long def, long long min, long long max, const char* meaning,
+               const std::string& def_text = "") {
+    ScenarioKey k =
+        row(key, "integer", "count", def_text.empty() ? std::to_string(def) : def_text, meaning);
+    k.range = max == kNoMax ? ">= " + std::to_string(min)
+                            : "[" + std::to_string(min) + ", " + std::to_string(max) + "]";
+    k.integer = true;
+    k.min = min;
+    k.max = max;
+    m_out.push_back(std::move(k));
+  }
+  /// A string that must be one of choices; def as shown (quoted).
+  void choice(const char* key, const std::string& def, const Keys& choices, const char* meaning) {
+    ScenarioKey k = row(key, "string", "", def, meaning);
+    k.range = one_of(choices);
+    m_out.push_back(std::move(k));
+  }
+  /// A point or vector [x, y, z] of any finite numbers.
+  void vector(const char* key, const char* unit, const cloth::Vector3& def, const char* meaning) {
+    other(key, "[x, y, z]", unit, vec3(def), "any finite numbers", meaning);
+  }
+  /// Anything else: type, unit, default and range as text.
+  void other(const char* key, const char* type, const char* unit, const std::string& def,
+             const std::string& range, const char* meaning) {
+    ScenarioKey k = row(key, type, unit, def, meaning);
+    k.range = range;
+    m_out.push_back(std::move(k));
+  }
+
+ private:
+  ScenarioKey row(const char* key, const char* type, const char* unit, std::string def,
+                  const char* meaning) const {
+    ScenarioKey k;
+    k.table = m_table;
+    k.key = key;
+    k.kind = m_kind;
+    k.type = type;
+    k.unit = unit;
+    k.default_value = std::move(def);
+    k.meaning = meaning;
+    return k;
+  }
+
+  std::vector<ScenarioKey>& m_out;
+  std::string m_table, m_kind;
+};
+
+void top_keys(std::vector<ScenarioKey>& out) {
+  const Scenario s;
+  const cloth::Scene scene;
+  Rows r(out);
+  r.other("name", "string", "", quoted(s.name), "letters, digits, '-', '_', '.'",
+          "the scenario's name; it names the output folder");
+  r.other("description", "string", "", "\"\"", "any", "one line saying what the scene shows");
+  r.number("duration", "s", s.duration, kPositive,
+           "simulated time of a run; a whole multiple of frame_interval");
+  r.number("frame_interval", "s", s.frame_interval, kPositive,
+           "time between logged frames (frames.csv rows); at most 1e7 frames per run");
+  r.number("snapshot_interval", "s", s.snapshot_interval, kNonNegative,
+           "time between full shapes in snapshots.csv, 0 or a whole multiple of frame_interval; "
+           "0: the initial and final shapes only");
+  r.number("animation_interval", "s", "1/30 s rounded to whole frames", kNonNegative,
+           "time between trajectory frames, 0 or a whole multiple of frame_interval; 0: no "
+           "trajectory");
+  r.number("blowup_strain", "1", s.blowup_strain, kPositive,
+           "a run is unstable once a spring's |l / l0 - 1| exceeds this");
+  r.number("blowup_energy", "1", s.blowup_energy, kPositive,
+           "a run is unstable once its energy error exceeds this times the run's energy scale");
+  r.other("reference", "string", "", "the first engine", "an engine's name",
+          "the engine the others are compared against");
+  r.vector("gravity", "m/s^2", scene.gravity, "gravitational acceleration");
+  r.vector("wind", "m/s", scene.wind, "air velocity; needs cloth.air_drag > 0");
+  r.other("cloth", "table", "", "the default cloth", "", "the cloth grid and its material");
+  r.other("constraint", "array of tables", "", "none", "",
+          "[[constraint]]: particles held in place, on some or all axes");
+  r.other("handle", "array of tables", "", "none", "",
+          "[[handle]]: particles moved along a prescribed motion");
+  r.other("sphere", "array of tables", "", "none", "", "[[sphere]]: a rigid sphere collider");
+  r.other("plane", "array of tables", "", "none", "", "[[plane]]: a rigid half-space collider");
+  r.other("box", "array of tables", "", "none", "", "[[box]]: a rigid axis-aligned box collider");
+  r.other("capsule", "array of tables", "", "none", "", "[[capsule]]: a rigid capsule collider");
+  r.other("cylinder", "array of tables", "", "none", "",
+          "[[cylinder]]: a rigid cylinder collider, axis along y");
+  r.other("engine", "array of tables", "", "none", "at least one",
+          "[[engine]]: an engine to run on the scene");
+}
+
+void cloth_keys(std::vector<ScenarioKey>& out) {
+  const cloth::ClothParams c;
+  Rows r(out, "cloth");
+  r.other("particles", "[nu, nv] integers", "count",
+          "[" + std::to_string(c.nu) + ", " + std::to_string(c.nv) + "]",
+          ">= 1 each, 2 to 10000000 in all", "particles along u and v");
+  r.other("size", "[u, v] numbers", "m",
+          "[" + shortest_decimal(c.size_u) + ", " + shortest_decimal(c.size_v) + "]",
+          std::string(kNonNegative.text) + ", > 0 along a direction with several particles",
+          "extent of the flat cloth along u and v");
+  r.vector("center", "m", c.center, "centre of the flat initial cloth");
+  r.choice("plane", quoted(plane_name(c.plane)), kPlanes,
+           "orientation of the initial cloth: xz horizontal, xy vertical");
+  r.number("particle_mass", "kg", c.particle_mass, kPositive,
+           "mass of each particle (not with total_mass)");
+  r.number("total_mass", "kg", "particle_mass times the particles", kPositive,
+           "mass of the whole cloth, spread evenly (not with particle_mass)");
+  r.other("stiffness", "table", "", "every kind at " + shortest_decimal(c.k_structural) + " N/m",
+          "", "spring constants by kind; a kind left out of the table has no springs");
+  r.number("damping", "N s/m", c.damping, kNonNegative, "damper along every spring");
+  r.number("air_drag", "N s/m", c.air_drag, kNonNegative,
+           "viscous drag of every particle against the wind");
+  Rows st(out, "cloth.stiffness");
+  st.number("structural", "N/m", 0.0, kNonNegative,
+            "springs between grid neighbours along u and v (0 when the table leaves it out)");
+  st.number("shear", "N/m", 0.0, kNonNegative, "springs along the grid's diagonals");
+  st.number("bend", "N/m", 0.0, kNonNegative, "springs between particles two apart along u and v");
+}
+
+void selection_keys(std::vector<ScenarioKey>& out, const char* table, bool hold) {
+  const ConstraintSpec c;
+  Rows r(out, table);
+  r.choice("select", quoted(c.select), kSelections,
+           "which particles: the four corners, one edge, a disk or a list of grid indices");
+  if (hold)
+    r.other("hold", "string", "", quoted(hold_letters(c.hold)),
+            "a non-empty combination of x, y, z", "the world axes held");
+  r.other("center", "[a, b] numbers", "m", "none (required by disk)", "any finite numbers",
+          "select = \"disk\": centre on the cloth plane's two axes (x, z or x, y)");
+  r.number("radius", "m", "none (required by disk)", kPositive,
+           "select = \"disk\": radius; the disk must cover a particle");
+  r.other("list", "[[i, j], ...]", "count", "none (required by indices)", "indices on the grid",
+          "select = \"indices\": the particles' grid indices");
+}
+
+void motion_keys(Rows& r, bool velocity) {
+  const cloth::Motion m;
+  if (velocity) r.vector("velocity", "m/s", m.velocity, "constant velocity (not with path)");
+  r.other("path", "[[t, dx, dy, dz], ...]", "s, m", "none",
+          "from [0, 0, 0, 0], times strictly increasing",
+          "displacements at times, linear between them, held after the last");
+}
+
+void collider_keys(std::vector<ScenarioKey>& out, const char* table) {
+  const cloth::Collider c;
+  Rows r(out, table);
+  r.number("restitution", "1", c.restitution, kUnitInterval,
+           "restitution coefficient: 0 no bounce, 1 elastic");
+  r.number("friction", "1", c.friction, kNonNegative, "Coulomb friction coefficient");
+  r.number("margin", "m", c.margin, kNonNegative, "contact shell thickness");
+  motion_keys(r, true);
+}
+
+void shape_keys(std::vector<ScenarioKey>& out) {
+  const cloth::Sphere sphere;
+  Rows s(out, "sphere");
+  s.vector("center", "m", sphere.center, "centre at t = 0");
+  s.number("radius", "m", sphere.radius, kPositive, "radius");
+  collider_keys(out, "sphere");
+  const cloth::HalfSpace plane;
+  Rows p(out, "plane");
+  p.vector("point", "m", plane.point, "a point on the plane at t = 0");
+  p.other("normal", "[x, y, z]", "1", vec3(plane.normal), "non-zero",
+          "normal out of the solid (normalised)");
+  collider_keys(out, "plane");
+  const cloth::Box box;
+  Rows b(out, "box");
+  b.vector("center", "m", box.center, "centre at t = 0");
+  b.other("half_extents", "[x, y, z]", "m", vec3(box.half_extents), "> 0 each",
+          "half the box's size along each axis");
+  collider_keys(out, "box");
+  const cloth::Capsule capsule;
+  Rows c(out, "capsule");
+  c.vector("a", "m", capsule.a, "one end of the axis at t = 0");
+  c.other("b", "[x, y, z]", "m", vec3(capsule.b), "different from a", "the other end of the axis");
+  c.number("radius", "m", capsule.radius, kPositive, "radius around the axis");
+  collider_keys(out, "capsule");
+  const cloth::Cylinder cylinder;
+  Rows y(out, "cylinder");
+  y.vector("center", "m", cylinder.center, "centre at t = 0");
+  y.number("radius", "m", cylinder.radius, kPositive, "radius");
+  y.number("height", "m", cylinder.height, kPositive, "height along y");
+  collider_keys(out, "cylinder");
+}
+
+void custom_engine_keys(std::vector<ScenarioKey>& out) {
+  const cloth::SolverOptions o;
+  const cloth::SolverOptions ls = cloth::line_search_options();  // newton = "line-search"
+  const auto both = [](const std::string& linearized, const std::string& line_search) {
+    return linearized + "; line-search: " + line_search;
+  };
+  Rows r(out, "engine", engine_kind_name(EngineKind::custom));
+  r.choice("integrator", quoted(cloth::integrator_name(o.integrator)), integrator_names(),
+           "the time integrator");
+  r.choice("newton", quoted(cloth::newton_method_name(o.newton)), kNewtonMethods,
+           "implicit-euler: Newton steps from the old state, or on the incremental potential "
+           "with a line search");
+  r.integer("newton_iterations", o.newton_iterations, 1, kNoMax,
+            "implicit-euler: Newton iterations per step (line-search: a limit)",
+            both(std::to_string(o.newton_iterations), std::to_string(ls.newton_iterations)));
+  r.number("newton_tolerance", "m/s^2", o.newton_tolerance, kPositive,
+           "implicit-euler, line-search: largest |M^-1 residual| / h a step ends at");
+  r.choice("linear_solver", quoted(cloth::linear_solver_name(o.linear_solver)), kLinearSolvers,
+           "implicit-euler: the solver of each Newton system");
+  r.number("cg_tolerance", "1",
+           both(shortest_decimal(o.cg_tolerance), shortest_decimal(ls.cg_tolerance)), kPositive,
+           "implicit-euler: relative residual each linear system is solved to");
+  r.integer("cg_max_iterations", o.cg_max_iterations, 1, kNoMax,
+            "implicit-euler: conjugate-gradient iterations per system, at most");
+  r.choice("cg_forcing",
+           both(quoted(cloth::cg_forcing_name(o.cg_forcing)),
+                quoted(cloth::cg_forcing_name(ls.cg_forcing))),
+           kCgForcings,
+           "implicit-euler: fixed tolerance, or Eisenstat and Walker's adaptive forcing "
+           "(line-search only)");
+  r.choice("contacts",
+           both(quoted(contact_mode_name(o.contacts_in_solve)),
+                quoted(contact_mode_name(ls.contacts_in_solve))),
+           kContactModes,
+           "implicit-euler: contacts resolved after the step, or inside the Newton solve "
+           "(line-search only)");
+  r.other("clamp_compressed", "boolean", "", boolean(o.clamp_compressed), "true or false",
+          "implicit-euler: drop the negative transverse stiffness of compressed springs");
+  r.integer("clamped_iterations", o.clamped_iterations, 0, kNoMax,
+            "implicit-euler, line-search: Newton iterations on the clamped matrix before the "
+            "exact one");
+  r.integer("substeps", o.substeps, 1, kMaxSolverIterations, "xpbd: substeps per step");
+  r.integer("iterations", o.iterations, 1, kMaxSolverIterations,
+            "xpbd: sweeps per substep; projective: local/global iterations per step");
+}
+
+void engine_keys(std::vector<ScenarioKey>& out) {
+  const EngineSpec e;
+  Rows r(out, "engine");
+  r.other("name", "string", "", "custom-<integrator>, or the kind",
+          "letters, digits, '-', '_', '+'; unique", "the engine's name in outputs and --set keys");
+  r.choice("kind", quoted(engine_kind_name(e.kind)), engine_kind_names(), "the kind of engine");
+  r.number("dt", "s", e.dt, kPositive, "time step; frame_interval must be a whole multiple of it");
+  custom_engine_keys(out);
+  const reference::BulletOptions b;
+  Rows d(out, "engine", engine_kind_name(EngineKind::bullet_deformable));
+  d.other("implicit", "boolean", "", boolean(b.implicit), "true or false",
+          "backward Euler instead of explicit");
+  d.other("line_search", "boolean", "", boolean(b.line_search), "true or false",
+          "implicit: Newton with a line search");
+  d.other("projection", "boolean", "", boolean(b.projection), "true or false",
+          "implicit: contact projection");
+  Rows s(out, "engine", engine_kind_name(EngineKind::bullet_softbody));
+  s.choice("stiffness", quoted(reference::softbody_stiffness_name(b.stiffness)), kSoftbodyStiffness,
+           "link stiffness: matched to the spring constant at dt, or klst for every link");
+  s.number("klst", "1", b.klst, kUnitInterval, "stiffness = \"klst\": Bullet's link stiffness");
+  s.integer("iterations", b.iterations, 1, kNoMax, "position-solver iterations per step");
+}
+
+}  // namespace
+
+const std::vector<ScenarioKey>& scenario_keys() {
+  static const std::vector<ScenarioKey> keys = [] {
+    std::vector<ScenarioKey> out;
+    top_keys(out);
+    cloth_keys(out);
+    selection_keys(out, "constraint", true);
+    selection_keys(out, "handle", false);
+    Rows handle(out, "handle");
+    motion_keys(handle, false);
+    shape_keys(out);
+    engine_keys(out);
+    return out;
+  }();
+  return keys;
+}
+
+std::string scenario_schema_markdown() {
+  std::ostringstream o;
+  o << "| key | type | unit | default | range | meaning |\n|---|---|---|---|---|---|\n";
+  for (const ScenarioKey& k : scenario_keys()) {
+    o << "| `" << k.path() << "`" << (k.kind.empty() ? "" : " (" + k.kind + ")") << " | " << k.type
+      << " | " << (k.unit.empty() ? "-" : k.unit) << " | " << markdown_cell(k.default_value)
+      << " | " << markdown_cell(k.range.empty() ? "-" : k.range) << " | "
+      << markdown_cell(k.meaning) << " |\n";
+  }
+  return o.str();
+}
+
+}  // namespace clothbench
