@@ -12,8 +12,8 @@
 #include "harness/io/output_lock.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/sweeps/accuracy_sweep.hpp"
-#include "option_checks.hpp"
-#include "scenario_input.hpp"
+#include "support/option_checks.hpp"
+#include "support/scenario_input.hpp"
 
 namespace clothbench::cli {
 namespace {

@@ -18,9 +18,9 @@
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_lock.hpp"
 #include "harness/io/user_error.hpp"
-#include "option_checks.hpp"
-#include "output_paths.hpp"
-#include "scenario_input.hpp"
+#include "support/option_checks.hpp"
+#include "support/output_paths.hpp"
+#include "support/scenario_input.hpp"
 
 namespace clothbench::cli {
 namespace {

@@ -11,7 +11,7 @@
 #include "exit_codes.hpp"
 #include "harness/scenario/engine_kind.hpp"
 #include "harness/scenario/scenario_loader.hpp"
-#include "scenario_input.hpp"
+#include "support/scenario_input.hpp"
 
 namespace clothbench::cli {
 namespace {

@@ -12,9 +12,9 @@
 #include "harness/io/output_lock.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/sweeps/stability_map.hpp"
-#include "option_checks.hpp"
-#include "scenario_input.hpp"
-#include "summaries.hpp"
+#include "support/option_checks.hpp"
+#include "support/scenario_input.hpp"
+#include "support/summaries.hpp"
 
 namespace clothbench::cli {
 namespace {

@@ -11,9 +11,9 @@
 #include "harness/io/output_lock.hpp"
 #include "harness/run/attribution.hpp"
 #include "harness/run/runner.hpp"
-#include "option_checks.hpp"
-#include "scenario_input.hpp"
-#include "summaries.hpp"
+#include "support/option_checks.hpp"
+#include "support/scenario_input.hpp"
+#include "support/summaries.hpp"
 
 namespace clothbench::cli {
 namespace {

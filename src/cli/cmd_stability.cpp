@@ -11,9 +11,9 @@
 #include "harness/io/output_lock.hpp"
 #include "harness/sweeps/stability_files.hpp"
 #include "harness/sweeps/stability_sweep.hpp"
-#include "option_checks.hpp"
-#include "scenario_input.hpp"
-#include "summaries.hpp"
+#include "support/option_checks.hpp"
+#include "support/scenario_input.hpp"
+#include "support/summaries.hpp"
 
 namespace clothbench::cli {
 namespace {

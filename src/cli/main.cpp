@@ -17,7 +17,7 @@
 #include "harness/io/user_error.hpp"
 #include "harness/run/build_info.hpp"
 #include "harness/run/runner.hpp"
-#include "option_checks.hpp"
+#include "support/option_checks.hpp"
 
 namespace {
 
