@@ -38,13 +38,23 @@ class Trajectory:
                 self.index = json.load(f)
         except (OSError, ValueError) as e:
             raise ReportError(f"{path}: cannot read the trajectory index: {e}") from None
+        try:
+            self._load_arrays(base)
+        except (KeyError, TypeError, ValueError) as e:
+            # an index that parses but lacks a field or has one of the wrong kind
+            what = f"no {e}" if isinstance(e, KeyError) else str(e)
+            raise ReportError(f"{path}: a damaged trajectory index ({what}); rerun clothbench "
+                              "run to write it again") from None
+
+    def _load_arrays(self, base):
+        """The engines' and colliders' arrays the index names, checked against its shapes."""
         nu, nv = self.index["grid"]
         self.positions = {}
         for e in self.index["engines"]:
             self.positions[e["name"]] = _load(os.path.join(base, e["file"]),
-                                              (e["frames"], nu * nv, 3))
+                                              (int(e["frames"]), int(nu) * int(nv), 3))
         self.colliders = _load(os.path.join(base, self.index["colliders_file"]),
-                               (self.index["frames"], len(self.index["shapes"]), 3))
+                               (int(self.index["frames"]), len(self.index["shapes"]), 3))
 
     @property
     def grid(self):

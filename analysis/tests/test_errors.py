@@ -194,3 +194,35 @@ class InternalError(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class DamagedTrajectory(unittest.TestCase):
+    """A trajectory index that parses but lacks a field, or has one of the wrong kind: one line
+    naming the file, exit 2, never a traceback (export and report alike)."""
+
+    def setUp(self):
+        self.tmp = tempfile.mkdtemp(prefix="clothbench-traj-")
+        os.makedirs(os.path.join(self.tmp, "trajectory"))
+
+    def tearDown(self):
+        shutil.rmtree(self.tmp, ignore_errors=True)
+
+    def export(self, index):
+        with open(os.path.join(self.tmp, "trajectory", "trajectory.json"), "w") as f:
+            f.write(index)
+        import subprocess
+        import sys
+        return subprocess.run([sys.executable, os.path.join(rc.ROOT, "analysis", "export.py"),
+                               self.tmp, "--format", "obj"], capture_output=True, text=True)
+
+    def test_damaged_indexes(self):
+        for index, fragment in (('{"engines": []}', "(no 'grid')"),
+                                ('{"grid": 3, "engines": []}', "damaged trajectory index"),
+                                ('{"grid": [2, 2], "engines": [{"name": "a"}]}', "(no 'file')")):
+            with self.subTest(index=index):
+                result = self.export(index)
+                self.assertEqual(result.returncode, 2, result.stderr)
+                self.assertNotIn("Traceback", result.stderr)
+                self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
+                self.assertIn("trajectory.json: a damaged trajectory index", result.stderr)
+                self.assertIn(fragment, result.stderr)
