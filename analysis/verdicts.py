@@ -47,6 +47,20 @@ def _stability_lines(f, engines, duration):
     return lines
 
 
+def energy_scale(rows):
+    """The most energy a run moves (J): its largest kinetic energy, or change in gravity or
+    elastic potential since the start. Unlike the initial total energy it does not depend on
+    where a potential's zero lies (a cloth on a floor at y = 0 has almost none)."""
+    if not len(rows):
+        return math.nan
+    moved = [np.abs(rows["kinetic"])]
+    for name in ("gravity_potential", "elastic_potential"):
+        moved.append(np.abs(rows[name] - rows[name][0]))
+    values = np.concatenate(moved)
+    values = values[np.isfinite(values)]
+    return float(values.max()) if len(values) else math.nan
+
+
 def _energy_line(f, frames, e):
     """The energy line of engine e from frames.csv, or None (no finite error)."""
     gated, note = f.energy_gated(e)
@@ -60,9 +74,9 @@ def _energy_line(f, frames, e):
     err = err[np.isfinite(err)]
     if not len(err):
         return None
-    e0 = rows["total_energy"][0] if len(rows) else math.nan
-    rel = f" ({num(100 * err.max() / abs(e0), 2)} % of the initial total energy " \
-          f"{num(float(e0))} J)" if _finite(e0) and e0 != 0 else ""
+    scale = energy_scale(rows)
+    rel = f" ({num(100 * err.max() / scale, 2)} % of {num(scale)} J, the most energy the run " \
+          "moves)" if _finite(scale) and scale > 0 else ""
     until = "" if f.blowup(e) is None else " before the blow-up"
     return ("info", f"{e}: energy error at most {num(float(err.max()))} J{rel}{until}.")
 
