@@ -92,6 +92,20 @@ def _cell(value, col, text_cols):
     return f'<td class="num">{E(num(float(value), 4))}</td>'
 
 
+UNCOUNTED_NOTE = ("n/a*: the engine does not count force evaluations (Bullet's solvers do not "
+                  "report them), so its cost is its wall time alone.")
+
+
+def _uncounted(row, col):
+    """True for a force-evaluation count of 0 over steps taken: an engine that counts none."""
+    return (col == "force_evals" and "steps" in row and row[col] == 0
+            and isinstance(row["steps"], float) and row["steps"] > 0)
+
+
+def _uncounted_cell():
+    return '<td class="num">n/a*</td>'
+
+
 def table(t, headers, extra_first=None):
     """An HTML table of a csvio.Table: known columns first (friendly headers), then extras.
 
@@ -102,14 +116,17 @@ def table(t, headers, extra_first=None):
     head = "".join(f"<th>{E(headers.get(c, c))}</th>" for c in cols)
     if extra_first:
         head = f"<th>{E(extra_first[0])}</th>" + head
-    body = []
+    body, uncounted = [], False
     for row in t.rows():
         cls = ' class="unstable"' if "stable" in row and row["stable"] < 0.5 else ""
-        cells = "".join(_cell(row[c], c, text_cols) for c in cols)
+        cells = "".join(_uncounted_cell() if _uncounted(row, c) else _cell(row[c], c, text_cols)
+                        for c in cols)
+        uncounted = uncounted or any(_uncounted(row, c) for c in cols)
         if extra_first:
             cells = f"<td>{E(extra_first[1])}</td>" + cells
         body.append(f"<tr{cls}>{cells}</tr>")
-    return f'<div class="scroll"><table><tr>{head}</tr>{"".join(body)}</table></div>'
+    note = f'<p class="notes">{UNCOUNTED_NOTE}</p>' if uncounted else ""
+    return f'<div class="scroll"><table><tr>{head}</tr>{"".join(body)}</table></div>{note}'
 
 
 def verdict_list(groups):

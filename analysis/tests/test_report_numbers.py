@@ -1,4 +1,4 @@
-"""The energy verdict's scale does not depend on where a potential's zero lies: the same run
+"""The report's numbers: the energy verdict's scale does not depend on where a potential's zero lies: the same run
 with its gravity potential shifted by a constant (the floor moved from y = 0 to y = 10, in the
 potential only) gets the same scale and the same percentage."""
 
@@ -43,3 +43,22 @@ class EnergyScale(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class UncountedForceEvaluations(unittest.TestCase):
+    """A summary row with steps taken and 0 force evaluations (an engine that counts none) shows
+    n/a with a note, never 0; a counted engine shows its count."""
+
+    def test_summary_table(self):
+        from analysis import page
+        summary = read_table(os.path.join(rc.FIXTURES, "run", "summary.csv"))
+        columns = dict(summary.columns)
+        evals = np.array(columns["force_evals"], dtype=float)
+        evals[0] = 0.0
+        columns["force_evals"] = evals
+        html = page.table(Table(summary.path, columns, summary.order), page.SUMMARY_HEADERS)
+        self.assertIn("n/a*", html)
+        self.assertIn(page.UNCOUNTED_NOTE, html)
+        self.assertEqual(html.count(">n/a*</td>"), 1)
+        plain = page.table(summary, page.SUMMARY_HEADERS)
+        self.assertNotIn("n/a*", plain)
