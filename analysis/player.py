@@ -138,10 +138,29 @@ def payload(folders, colors):
             dist_hi.append(1000 * np.median(np.linalg.norm(a[:m] - b[:m], axis=-1).max(axis=1)))
     duration = max(tr.interval * (tr.index["frames"] - 1) for tr in trajs)
     return {"sets": sets, "engines": engines, "duration": duration,
+            "start_t": _most_different_time(engines),
             "step": min(tr.interval for tr in trajs),
             "strain_scale": _nice_up(max(strain_hi, default=0.01)),
             "distance_scale_mm": _nice_up(max(dist_hi, default=1.0)),
             "colormap": _viridis()}
+
+
+def _most_different_time(engines):
+    """The time (s) of the frame where an engine is farthest (RMS) from its reference, where the
+    player opens: the engines differ most there, while t = 0 shows every cloth alike."""
+    best, best_t = 0.0, 0.0
+    for e in engines:
+        r = engines[e["ref"]]
+        a, b = _decode(e), _decode(r)
+        m = min(len(a), len(b))
+        if not m or e is r or a.shape[1:] != b.shape[1:] or e["interval"] != r["interval"]:
+            continue
+        rms = np.sqrt(np.mean(np.sum((a[:m] - b[:m]) ** 2, axis=-1), axis=-1))
+        rms[~np.isfinite(rms)] = 0
+        k = int(np.argmax(rms))
+        if rms[k] > best:
+            best, best_t = float(rms[k]), k * e["interval"]
+    return best_t
 
 
 def _decode(e):

@@ -3,7 +3,8 @@
 var state;
 
 function initialState() {
-  return { t: 0, color: "engine", layout: "grid", shown: engines.map(function () { return true; }),
+  // it opens where the engines differ most (t = 0 shows every cloth alike); #t= overrides
+  return { t: D.start_t || 0, color: "engine", layout: "grid", shown: engines.map(function () { return true; }),
            playing: false, speed: 1 };
 }
 function parseHash() {

@@ -203,6 +203,28 @@ class Player(unittest.TestCase):
             # not blank: the cloth (engine colour) covers part of every view
             self.assertGreater(len(chromatic(cell)), 0.02 * cell.shape[0] * cell.shape[1], view)
 
+    def test_opens_where_the_engines_differ_most(self):
+        # no #t= in the address: the frame of the largest distance from the reference
+        status, _ = player_status(self.page, "")
+        with open(os.path.join(RUN, "divergence.csv"), newline="") as f:
+            rows = [r for r in csv.DictReader(f) if r["engine"] != r["reference"]]
+        worst = max(float(r["rms_distance"]) for r in rows)
+        near = [float(r["rms_distance"]) for r in rows if abs(float(r["t"]) - status["t"]) < 0.016]
+        self.assertGreater(status["t"], 0)
+        self.assertTrue(near and max(near) >= 0.9 * worst, (status["t"], near, worst))
+
+    def test_every_cloth_stays_in_its_view(self):
+        # the camera frames every engine over the whole run: no cloth is cut off at a view's
+        # edge at any of these times (its colour never reaches the border of the view)
+        for t in ("0", "0.3", "0.6"):
+            status, _ = player_status(self.page, f"t={t}")
+            img = screenshot(self.page, f"t={t}", os.path.join(self.tmp, f"frame{t}.png"))
+            for view in status["views"]:
+                cell = crop(img, view, status["canvas"]).astype(int)
+                coloured = (cell.max(axis=-1) - cell.min(axis=-1)) > 40
+                border = np.concatenate([coloured[0], coloured[-1], coloured[:, 0], coloured[:, -1]])
+                self.assertEqual(int(border.sum()), 0, (t, view["engine"]))
+
     def test_start_and_end_differ(self):
         status, _ = player_status(self.page, "t=0")
         start = screenshot(self.page, "t=0", os.path.join(self.tmp, "start.png"))
