@@ -9,9 +9,11 @@ stdout, or its stderr when stdout is empty), with every number and every path (a
 a `/`) left out of the comparison. A shown `...` compares nothing; a command shown with no
 output must print nothing.
 
-Each block runs with bash in a folder of its own, where `scenarios` is a link to the
-repository's scenarios/, so that `scenarios/NAME.toml` and `out/...` work as written and
-nothing is written into the repository; the folder is deleted afterwards.
+The blocks of one page run in page order with bash in one folder of their own, so a block may
+use what an earlier block of its page wrote (the README's tour reports the run it made). In
+that folder `scenarios` is a link to the repository's scenarios/, so `scenarios/NAME.toml`
+and `out/...` work as written and nothing is written into the repository; the folder is
+deleted afterwards, also when the runner is interrupted.
 
 Usage: run_examples.py --clothbench PATH --source DIR [--work DIR] [--slow | --all] [--list]
   --work DIR  where the blocks' folders go (created and deleted; default: a temporary folder)
@@ -23,6 +25,7 @@ import os
 import pathlib
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -89,29 +92,24 @@ def normalise(line):
     return " ".join(words)
 
 
-def run_block(block, source, work, env):
-    """Runs a block's commands in a fresh folder; returns a list of mismatch messages."""
-    folder = pathlib.Path(tempfile.mkdtemp(prefix="example-", dir=work))
-    (folder / "scenarios").symlink_to(source / "scenarios")
+def run_block(block, folder, env):
+    """Runs a block's commands in its page's folder; returns a list of mismatch messages."""
     problems = []
-    try:
-        for command, shown in block.steps:
-            done = subprocess.run(["bash", "-c", command], cwd=folder, env=env,
-                                  capture_output=True, text=True,
-                                  timeout=3600 if block.slow else 900)
-            out = done.stdout.splitlines() or done.stderr.splitlines()
-            first = out[0] if out else None
-            if shown is None or shown.strip() == "...":
-                if shown is None and first is not None:
-                    problems.append("`%s` printed %r where the block shows no output"
-                                    % (command, first))
-                continue
-            if first is None or normalise(first) != normalise(shown):
-                problems.append("`%s`\n    shown: %s\n    now:   %s%s" % (
-                    command, shown, first,
-                    "\n    stderr: " + done.stderr.strip()[-400:] if done.stderr.strip() else ""))
-    finally:
-        shutil.rmtree(folder)
+    for command, shown in block.steps:
+        done = subprocess.run(["bash", "-c", command], cwd=folder, env=env,
+                              capture_output=True, text=True,
+                              timeout=3600 if block.slow else 900)
+        out = done.stdout.splitlines() or done.stderr.splitlines()
+        first = out[0] if out else None
+        if shown is None or shown.strip() == "...":
+            if shown is None and first is not None:
+                problems.append("`%s` printed %r where the block shows no output"
+                                % (command, first))
+            continue
+        if first is None or normalise(first) != normalise(shown):
+            problems.append("`%s`\n    shown: %s\n    now:   %s%s" % (
+                command, shown, first,
+                "\n    stderr: " + done.stderr.strip()[-400:] if done.stderr.strip() else ""))
     return problems
 
 
@@ -144,10 +142,16 @@ def main():
     if not made_work:
         shutil.rmtree(work, ignore_errors=True)
         work.mkdir(parents=True)
+    # an interruption (ctest's timeout, Ctrl-C) still removes the folders
+    signal.signal(signal.SIGTERM, lambda *_: sys.exit(143))
     failed = 0
+    folders = {}
     try:
         for b in chosen:
-            problems = run_block(b, source, work, env)
+            if b.page not in folders:
+                folders[b.page] = pathlib.Path(tempfile.mkdtemp(prefix="page-", dir=work))
+                (folders[b.page] / "scenarios").symlink_to(source / "scenarios")
+            problems = run_block(b, folders[b.page], env)
             print("%s %s:%d (%d commands)" % ("FAIL" if problems else "ok  ", b.page, b.line,
                                               len(b.steps)))
             for p in problems:
