@@ -69,6 +69,26 @@ void refuse_vary_conflicts(const MapArgs& a) {
   }
 }
 
+/// Throws UserError naming the --vary option (not --set, which it is applied as) when one of
+/// its values is not a valid value of its key; checked before any work.
+template <class Load>
+void check_vary_values(const MapArgs& a, const Load& load) {
+  load({});  // the scenario itself first: its own errors are its own
+  for (size_t i = 0; i < a.options.varied.size(); ++i) {
+    const VariedKey& k = a.options.varied[i];
+    for (size_t v = 0; v < k.values.size(); ++v) {
+      try {
+        load({k.override_text(v)});
+      } catch (const UserError& e) {
+        std::string why = e.what();
+        const std::string as_set = "--set " + k.key + ": ";
+        if (why.rfind(as_set, 0) == 0) why = why.substr(as_set.size());
+        throw UserError("--vary " + a.vary[i] + ": the value " + k.values[v] + ": " + why);
+      }
+    }
+  }
+}
+
 int execute_map(MapArgs a) {
   MapOptions& o = a.options;
   o.search.progress = !a.quiet;
@@ -81,6 +101,7 @@ int execute_map(MapArgs a) {
     sc.max_run_seconds = a.max_run_seconds;
     return sc;
   };
+  check_vary_values(a, load);
   if (o.out_dir.empty()) o.out_dir = "out/" + load({}).name + "-map";
   refuse_overwriting_input(a.scenario_path, o.out_dir, "map_scenario.toml");
   const OutputLock lock(o.out_dir);

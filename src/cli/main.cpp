@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -92,6 +93,12 @@ int main(int argc, char** argv) {
     return kExitInterrupted;
   } catch (const UserError& e) {
     std::cerr << "clothbench: " << one_line(e.what()) << '\n';
+    return kExitUserError;
+  } catch (const std::bad_alloc&) {
+    // not a bug: the input asked for more than the machine has
+    std::cerr << "clothbench: out of memory: this scene or sweep needs more memory than the "
+                 "machine could give; use fewer particles (cloth.particles), fewer parallel "
+                 "runs (-j) or a shorter duration\n";
     return kExitUserError;
   } catch (const std::exception& e) {
     return internal_error(e.what());

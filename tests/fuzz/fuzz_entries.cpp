@@ -22,15 +22,24 @@ std::string text_of(const std::uint8_t* data, std::size_t size) {
   return std::string(reinterpret_cast<const char*>(data), size);
 }
 
-/// The input written to a scratch file of this process (the readers take a path).
-std::string scratch_file(const char* suffix, const std::uint8_t* data, std::size_t size) {
-  const std::string path = (std::filesystem::temp_directory_path() /
-                            ("clothbench-fuzz-" + std::to_string(::getpid()) + suffix))
-                               .string();
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
-  return path;
-}
+/// The input written to a scratch file of this process (the readers take a path), removed
+/// when the entry is done: a test run leaves nothing in the temporary folder.
+struct ScratchFile {
+  std::string path;
+  ScratchFile(const char* suffix, const std::uint8_t* data, std::size_t size)
+      : path((std::filesystem::temp_directory_path() /
+              ("clothbench-fuzz-" + std::to_string(::getpid()) + suffix))
+                 .string()) {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
+  }
+  ~ScratchFile() {
+    std::error_code ec;
+    std::filesystem::remove(path, ec);
+  }
+  ScratchFile(const ScratchFile&) = delete;
+  ScratchFile& operator=(const ScratchFile&) = delete;
+};
 
 }  // namespace
 
@@ -53,7 +62,8 @@ void overrides(const std::uint8_t* data, std::size_t size) {
 }
 
 void csv_file(const std::uint8_t* data, std::size_t size) {
-  const std::string path = scratch_file(".csv", data, size);
+  const ScratchFile scratch(".csv", data, size);
+  const std::string& path = scratch.path;
   try {
     const CsvTable table = read_csv_leniently(path);
     for (const CsvRecord& r : table.records)
@@ -73,7 +83,8 @@ void csv_file(const std::uint8_t* data, std::size_t size) {
 }
 
 void tolerances_file(const std::uint8_t* data, std::size_t size) {
-  const std::string path = scratch_file(".toml", data, size);
+  const ScratchFile scratch(".toml", data, size);
+  const std::string& path = scratch.path;
   try {
     const Tolerances t = read_tolerances(path);
     // what the reader accepts is usable: every tolerance a finite number >= 0

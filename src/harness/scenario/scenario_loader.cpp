@@ -32,6 +32,9 @@ cloth::ClothParams read_cloth(const Reader& r, const toml::table* table) {
   // grid
   if (const toml::node* n = table->get("particles")) {
     const auto p = Reader::int_pair(*n, 1);
+    if (!p && Reader::has_huge_integer(*n))
+      r.fail(n, "cloth.particles",
+             "too large: at most 10000000 particles in all, got " + describe(*n));
     if (!p) r.expected(*n, "cloth.particles", "an array of 2 integers >= 1");
     const long long total = static_cast<long long>((*p)[0]) * (*p)[1];
     if (total < 2) r.expected(*n, "cloth.particles", "at least 2 particles in all");
@@ -39,7 +42,7 @@ cloth::ClothParams read_cloth(const Reader& r, const toml::table* table) {
     c.nu = (*p)[0];
     c.nv = (*p)[1];
   }
-  const auto size = r.number_pair(at, "size", {c.size_u, c.size_v}, kNonNegative);
+  const auto size = r.number_pair(at, "size", {c.size_u, c.size_v}, kSize);
   for (int d = 0; d < 2; ++d) {
     // springs along a direction with several particles need a length to rest at
     const int count = d == 0 ? c.nu : c.nv;
@@ -60,8 +63,8 @@ cloth::ClothParams read_cloth(const Reader& r, const toml::table* table) {
     const auto [n, key] = blame({{tm, "cloth.total_mass"}, {pm, "cloth.particle_mass"}});
     r.fail(n, key, "expected particle_mass or total_mass, got both (give the mass one way only)");
   }
-  c.particle_mass = r.number(at, "particle_mass", c.particle_mass, kPositive);
-  c.total_mass = r.number(at, "total_mass", c.total_mass, kPositive);
+  c.particle_mass = r.number(at, "particle_mass", c.particle_mass, kMass);
+  c.total_mass = r.number(at, "total_mass", c.total_mass, kMass);
 
   // a stiffness table names the spring kinds there are; an omitted kind has no springs
   if (const toml::table* st = r.table(at, "stiffness")) {
@@ -108,7 +111,7 @@ ConstraintSpec read_constraint(const Reader& r, const toml::table& t, const std:
     const auto center = r.number_pair(at, "center", {0, 0}, kAnyNumber);
     c.disk_center_x = center[0];
     c.disk_center_z = center[1];
-    c.disk_radius = r.number(at, "radius", 0.0, kPositive);
+    c.disk_radius = r.number(at, "radius", 0.0, kLength);
     const std::vector<std::uint8_t> mask = held_mask(cloth, {c});
     if (std::none_of(mask.begin(), mask.end(), [](std::uint8_t m) { return m != 0; }))
       r.fail(t.get("radius"), at.key("radius"),
@@ -190,7 +193,7 @@ void read_collider(const Reader& r, const At& at, cloth::Collider& c) {
   static_cast<cloth::Motion&>(c) = read_motion(r, at, true);
   c.restitution = r.number(at, "restitution", c.restitution, kUnitInterval);
   c.friction = r.number(at, "friction", c.friction, kNonNegative);
-  c.margin = r.number(at, "margin", c.margin, kNonNegative);
+  c.margin = r.number(at, "margin", c.margin, kShell);
 }
 
 /// Checks t's keys against a shape's own keys and the colliders' common ones.
@@ -205,7 +208,7 @@ cloth::Sphere read_sphere(const Reader& r, const toml::table& t, const std::stri
   r.check_keys(at, kSphereKeys);
   cloth::Sphere s;
   s.center = r.vec3(at, "center", s.center);
-  s.radius = r.number(at, "radius", s.radius, kPositive);
+  s.radius = r.number(at, "radius", s.radius, kLength);
   read_collider(r, at, s);
   return s;
 }
@@ -227,9 +230,7 @@ cloth::Box read_box(const Reader& r, const toml::table& t, const std::string& pa
   check_shape_keys(r, at, kBoxKeys);
   cloth::Box s;
   s.center = r.vec3(at, "center", s.center);
-  s.half_extents = r.vec3(at, "half_extents", s.half_extents);
-  if (!(s.half_extents.minCoeff() > 0))
-    r.expected(*t.get("half_extents"), at.key("half_extents"), "an array of 3 numbers > 0");
+  s.half_extents = r.vec3(at, "half_extents", s.half_extents, kLength);
   read_collider(r, at, s);
   return s;
 }
@@ -244,7 +245,7 @@ cloth::Capsule read_capsule(const Reader& r, const toml::table& t, const std::st
     r.fail(t.get("b") ? t.get("b") : &t, at.key("b"),
            "expected b different from a (a capsule's axis), got both at [" + toml_double(s.a.x()) +
                ", " + toml_double(s.a.y()) + ", " + toml_double(s.a.z()) + "]");
-  s.radius = r.number(at, "radius", s.radius, kPositive);
+  s.radius = r.number(at, "radius", s.radius, kLength);
   read_collider(r, at, s);
   return s;
 }
@@ -254,8 +255,8 @@ cloth::Cylinder read_cylinder(const Reader& r, const toml::table& t, const std::
   check_shape_keys(r, at, kCylinderKeys);
   cloth::Cylinder s;
   s.center = r.vec3(at, "center", s.center);
-  s.radius = r.number(at, "radius", s.radius, kPositive);
-  s.height = r.number(at, "height", s.height, kPositive);
+  s.radius = r.number(at, "radius", s.radius, kLength);
+  s.height = r.number(at, "height", s.height, kLength);
   read_collider(r, at, s);
   return s;
 }
@@ -487,7 +488,7 @@ void read_handles(const Reader& r, const toml::table& root, Scenario& s) {
 /// Gravity, wind, the cloth, its constraints and handles, and the colliders.
 void read_scene(const Reader& r, const toml::table& root, Scenario& s) {
   const At at{root, ""};
-  s.scene.gravity = r.vec3(at, "gravity", s.scene.gravity);
+  s.scene.gravity = r.vec3(at, "gravity", s.scene.gravity, kAcceleration);
   s.scene.cloth = read_cloth(r, r.table(at, "cloth"));
   s.scene.wind = r.vec3(at, "wind", s.scene.wind);
   if (!s.scene.wind.isZero() && s.scene.cloth.air_drag == 0.0)

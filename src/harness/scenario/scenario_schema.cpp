@@ -129,7 +129,8 @@ void top_keys(std::vector<ScenarioKey>& out) {
            "a run is unstable once its energy error exceeds this times the run's energy scale");
   r.other("reference", "string", "", "the first engine", "an engine's name",
           "the engine the others are compared against");
-  r.vector("gravity", "m/s^2", scene.gravity, "gravitational acceleration");
+  r.other("gravity", "[x, y, z]", "m/s^2", vec3(scene.gravity),
+          std::string(kAcceleration.text) + " each", "gravitational acceleration");
   r.vector("wind", "m/s", scene.wind, "air velocity; needs cloth.air_drag > 0");
   r.other("cloth", "table", "", "the default cloth", "", "the cloth grid and its material");
   r.other("constraint", "array of tables", "", "none", "",
@@ -154,14 +155,14 @@ void cloth_keys(std::vector<ScenarioKey>& out) {
           ">= 1 each, 2 to 10000000 in all", "particles along u and v");
   r.other("size", "[u, v] numbers", "m",
           "[" + shortest_decimal(c.size_u) + ", " + shortest_decimal(c.size_v) + "]",
-          std::string(kNonNegative.text) + ", > 0 along a direction with several particles",
+          std::string(kSize.text) + " each, > 0 along a direction with several particles",
           "extent of the flat cloth along u and v");
   r.vector("center", "m", c.center, "centre of the flat initial cloth");
   r.choice("plane", quoted(plane_name(c.plane)), kPlanes,
            "orientation of the initial cloth: xz horizontal, xy vertical");
-  r.number("particle_mass", "kg", c.particle_mass, kPositive,
+  r.number("particle_mass", "kg", c.particle_mass, kMass,
            "mass of each particle (not with total_mass)");
-  r.number("total_mass", "kg", "particle_mass times the particles", kPositive,
+  r.number("total_mass", "kg", "particle_mass times the particles", kMass,
            "mass of the whole cloth, spread evenly (not with particle_mass)");
   r.other("stiffness", "table", "", "every kind at " + shortest_decimal(c.k_structural) + " N/m",
           "", "spring constants by kind; a kind left out of the table has no springs");
@@ -185,7 +186,7 @@ void selection_keys(std::vector<ScenarioKey>& out, const char* table, bool hold)
             "a non-empty combination of x, y, z", "the world axes held");
   r.other("center", "[a, b] numbers", "m", "none (required by disk)", "any finite numbers",
           "select = \"disk\": centre on the cloth plane's two axes (x, z or x, y)");
-  r.number("radius", "m", "none (required by disk)", kPositive,
+  r.number("radius", "m", "none (required by disk)", kLength,
            "select = \"disk\": radius; the disk must cover a particle");
   r.other("list", "[[i, j], ...]", "count", "none (required by indices)", "indices on the grid",
           "select = \"indices\": the particles' grid indices");
@@ -205,7 +206,7 @@ void collider_keys(std::vector<ScenarioKey>& out, const char* table) {
   r.number("restitution", "1", c.restitution, kUnitInterval,
            "restitution coefficient: 0 no bounce, 1 elastic");
   r.number("friction", "1", c.friction, kNonNegative, "Coulomb friction coefficient");
-  r.number("margin", "m", c.margin, kNonNegative, "contact shell thickness");
+  r.number("margin", "m", c.margin, kShell, "contact shell thickness");
   motion_keys(r, true);
 }
 
@@ -213,7 +214,7 @@ void shape_keys(std::vector<ScenarioKey>& out) {
   const cloth::Sphere sphere;
   Rows s(out, "sphere");
   s.vector("center", "m", sphere.center, "centre at t = 0");
-  s.number("radius", "m", sphere.radius, kPositive, "radius");
+  s.number("radius", "m", sphere.radius, kLength, "radius");
   collider_keys(out, "sphere");
   const cloth::HalfSpace plane;
   Rows p(out, "plane");
@@ -224,20 +225,20 @@ void shape_keys(std::vector<ScenarioKey>& out) {
   const cloth::Box box;
   Rows b(out, "box");
   b.vector("center", "m", box.center, "centre at t = 0");
-  b.other("half_extents", "[x, y, z]", "m", vec3(box.half_extents), "> 0 each",
-          "half the box's size along each axis");
+  b.other("half_extents", "[x, y, z]", "m", vec3(box.half_extents),
+          std::string(kLength.text) + " each", "half the box's size along each axis");
   collider_keys(out, "box");
   const cloth::Capsule capsule;
   Rows c(out, "capsule");
   c.vector("a", "m", capsule.a, "one end of the axis at t = 0");
   c.other("b", "[x, y, z]", "m", vec3(capsule.b), "different from a", "the other end of the axis");
-  c.number("radius", "m", capsule.radius, kPositive, "radius around the axis");
+  c.number("radius", "m", capsule.radius, kLength, "radius around the axis");
   collider_keys(out, "capsule");
   const cloth::Cylinder cylinder;
   Rows y(out, "cylinder");
   y.vector("center", "m", cylinder.center, "centre at t = 0");
-  y.number("radius", "m", cylinder.radius, kPositive, "radius");
-  y.number("height", "m", cylinder.height, kPositive, "height along y");
+  y.number("radius", "m", cylinder.radius, kLength, "radius");
+  y.number("height", "m", cylinder.height, kLength, "height along y");
   collider_keys(out, "cylinder");
 }
 

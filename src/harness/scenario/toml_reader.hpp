@@ -38,7 +38,6 @@ inline std::string path_of(const std::string& prefix, std::string_view key) {
   return prefix.empty() ? std::string(key) : prefix + "." + std::string(key);
 }
 
-
 /// A range a number must lie in, as said in messages ("> 0").
 struct Bound {
   const char* text;  // "" for any finite number
@@ -48,6 +47,15 @@ inline const Bound kAnyNumber{"", [](double) { return true; }};
 inline const Bound kPositive{"> 0", [](double x) { return x > 0; }};
 inline const Bound kNonNegative{">= 0", [](double x) { return x >= 0; }};
 inline const Bound kUnitInterval{"in [0, 1]", [](double x) { return x >= 0 && x <= 1; }};
+// magnitudes a cloth scene can have: a subnormal or astronomical value would be simulated and
+// called stable (a cloth thrown to 1e300 m, a gravity under which an engine never moves), so it
+// is refused with the range that makes sense
+inline const Bound kLength{"from 1e-6 to 1e4", [](double x) { return x >= 1e-6 && x <= 1e4; }};
+inline const Bound kSize{"0, or from 1e-6 to 1e4",
+                         [](double x) { return x == 0 || (x >= 1e-6 && x <= 1e4); }};
+inline const Bound kMass{"from 1e-9 to 1e6", [](double x) { return x >= 1e-9 && x <= 1e6; }};
+inline const Bound kShell{"from 0 to 1", [](double x) { return x >= 0 && x <= 1; }};
+inline const Bound kAcceleration{"from -1e4 to 1e4", [](double x) { return std::abs(x) <= 1e4; }};
 
 inline std::string expected_number(const Bound& b) {
   return *b.text ? std::string("a number ") + b.text : std::string("a finite number");
@@ -94,7 +102,9 @@ class Reader {
     const toml::node* n = at.table.get(key);
     if (!n) return def;
     const std::optional<double> x = as_number(*n);
-    if (!x || !std::isfinite(*x) || !b.ok(*x)) expected(*n, at.key(key), expected_number(b));
+    if (x && !std::isfinite(*x))
+      fail(n, at.key(key), "must be finite (" + expected_number(b) + "), got " + describe(*n));
+    if (!x || !b.ok(*x)) expected(*n, at.key(key), expected_number(b));
     return *x;
   }
 
@@ -102,6 +112,10 @@ class Reader {
     const toml::node* n = at.table.get(key);
     if (!n) return def;
     const std::optional<int> i = as_int(*n, min);
+    if (!i && has_huge_integer(*n))
+      fail(n, at.key(key),
+           "too large: at most " + std::to_string(std::numeric_limits<int>::max()) + ", got " +
+               describe(*n));
     if (!i) expected(*n, at.key(key), "an integer >= " + std::to_string(min));
     return *i;
   }
@@ -141,11 +155,13 @@ class Reader {
     return s;
   }
 
-  cloth::Vector3 vec3(const At& at, std::string_view key, const cloth::Vector3& def) const {
+  cloth::Vector3 vec3(const At& at, std::string_view key, const cloth::Vector3& def,
+                      const Bound& b = kAnyNumber) const {
     const toml::node* n = at.table.get(key);
     if (!n) return def;
-    const auto v = numbers(*n, 3, kAnyNumber);
-    if (!v) expected(*n, at.key(key), "an array of 3 numbers");
+    const auto v = numbers(*n, 3, b);
+    if (!v)
+      expected(*n, at.key(key), "an array of 3 numbers" + std::string(*b.text ? " " : "") + b.text);
     return {(*v)[0], (*v)[1], (*v)[2]};
   }
 
@@ -157,6 +173,15 @@ class Reader {
     if (!v)
       expected(*n, at.key(key), "an array of 2 numbers" + std::string(*b.text ? " " : "") + b.text);
     return {(*v)[0], (*v)[1]};
+  }
+
+  /// True when n is an integer, or an array holding one, past what an int holds.
+  static bool has_huge_integer(const toml::node& n) {
+    if (const auto* i = n.as_integer()) return i->get() > std::numeric_limits<int>::max();
+    if (const toml::array* a = n.as_array())
+      for (const toml::node& e : *a)
+        if (has_huge_integer(e)) return true;
+    return false;
   }
 
   /// [a, b] of integers >= min; nullopt when n is not one.

@@ -34,10 +34,9 @@ void check_divides(const Scenario& sc, double dt, const std::string& what) {
   const double n = std::round(r);
   // std::invalid_argument, not UserError: the accuracy tests expect this type
   if (!(dt > 0) || !std::isfinite(r) || n < 1 || std::abs(r - n) > 1e-9 * r)
-    throw UserError(
-        what + ": dt = " + format_double(dt) +
-        " s does not divide frame_interval = " + format_double(sc.frame_interval) + " s of " +
-        sc.source + " (every swept dt must: give --dts that divide it)");
+    throw UserError(what + ": dt = " + format_double(dt) +
+                    " s does not divide frame_interval = " + format_double(sc.frame_interval) +
+                    " s of " + sc.source + " (every swept dt must: give --dts that divide it)");
   if (sc.duration / dt > kMaxSteps)
     throw UserError(what + ": dt = " + format_double(dt) + " s would take duration / dt = " +
                     format_double(sc.duration / dt) + " steps, more than " +
@@ -194,11 +193,20 @@ void plan_grids(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& plan
   plan.sizes.erase(std::unique(plan.sizes.begin(), plan.sizes.end()), plan.sizes.end());
   if (plan.sizes.empty()) return;
   const std::string text = scenario_to_toml(sc);
-  for (int r : plan.sizes)
-    plan.grids.push_back(
-        parse_scenario(text, sc.source + " on " + grid_name(r, r),
-                       {"cloth.particles=[" + std::to_string(r) + ", " + std::to_string(r) + "]",
-                        "cloth.total_mass=" + format_double(total_mass(sc))}));
+  for (int r : plan.sizes) {
+    try {
+      plan.grids.push_back(
+          parse_scenario(text, sc.source + " on " + grid_name(r, r),
+                         {"cloth.particles=[" + std::to_string(r) + ", " + std::to_string(r) + "]",
+                          "cloth.total_mass=" + format_double(total_mass(sc))}));
+    } catch (const UserError& e) {
+      // the grid is the user's --resolutions value, not a --set they gave
+      std::string why = e.what();
+      const std::string as_set = "--set cloth.particles: ";
+      if (why.rfind(as_set, 0) == 0) why = why.substr(as_set.size());
+      throw UserError("--resolutions " + std::to_string(r) + ": " + why);
+    }
+  }
 }
 
 /// The resolution study: every configuration at its engine's dt on every grid; its reference

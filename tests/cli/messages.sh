@@ -1,0 +1,39 @@
+#!/usr/bin/env bash
+# Messages that name the right thing (issue 27): a bad --vary value is the --vary option's,
+# a grid of --resolutions is that option's (both are applied as overrides, never given as
+# --set), an infinite number "must be finite", an integer past the range "too large: at most
+# N", and running out of memory is the user's input (exit 2 with what to change), not a bug.
+# Usage: messages.sh CLOTHBENCH SOURCE_DIR WORK_DIR
+set -u
+clothbench=$1 source=$2 work=$3
+source "$(dirname "$0")/expect.sh"
+has() { grep -q -- "$2" "$work/$1" || fail "$3: no \"$2\" in $1: $(head -c 400 "$work/$1")"; }
+lacks() { ! grep -q -- "$2" "$work/$1" || fail "$3: \"$2\" in $1: $(head -c 400 "$work/$1")"; }
+chain=$source/scenarios/hanging_chain.toml
+
+expect 2 "$clothbench" map "$chain" -q -o "$work/map" --vary cloth.damping=0,abc
+has stderr "clothbench: --vary cloth.damping=0,abc: the value abc: expected a number >= 0" "bad --vary value"
+lacks stderr "--set" "bad --vary value"
+expect 2 "$clothbench" accuracy "$source/scenarios/flag.toml" -q -o "$work/acc" --resolutions 5,5000
+has stderr "clothbench: --resolutions 5000: expected at most 10000000 particles in all" "--resolutions too fine"
+lacks stderr "--set" "--resolutions too fine"
+expect 2 "$clothbench" run "$chain" -q -o "$work/run" --set blowup_strain=inf
+has stderr "blowup_strain: must be finite (a number > 0), got inf" "infinite blowup_strain"
+expect 2 "$clothbench" run "$chain" -q -o "$work/run" --set "cloth.particles=[99999999999,2]"
+has stderr "cloth.particles: too large: at most 10000000 particles in all" "huge integer"
+
+# out of memory: a cloth that cannot fit under a 1 GiB address-space limit (not under a
+# sanitizer, which reserves far more address space than that on its own)
+if ldd "$clothbench" 2>/dev/null | grep -q libasan; then
+  echo "out-of-memory case not run under AddressSanitizer"
+else
+  ( ulimit -v 1048576; exec "$clothbench" run "$source/scenarios/seed_sphere_drape.toml" -q -o "$work/oom" \
+      --set "cloth.particles=[3000,3000]" --set duration=0.01 --set frame_interval=0.01 ) \
+    >"$work/stdout" 2>"$work/stderr"
+  status=$?
+  [ "$status" -eq 2 ] || fail "out of memory: exit $status, expected 2: $(head -c 300 "$work/stderr")"
+  has stderr "clothbench: out of memory" "out of memory"
+  lacks stderr "bug" "out of memory"
+fi
+[ "$failures" -eq 0 ] || exit 1
+echo "every message names the option or key the user gave"
