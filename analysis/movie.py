@@ -119,7 +119,8 @@ def check(folders):
 
 def write(folders, outdir, colors):
     """Writes outdir/movie.mp4 and returns its path."""
-    panels = _panels(check(folders))
+    runs = check(folders)
+    panels = _panels(runs)
     box = _box(panels)
     fig, axes = _figure(panels, *box)
     interval = min(tr.interval for _, _, tr, _ in panels)
