@@ -42,6 +42,13 @@ function fit() {
   // far enough that the bounding sphere fits the view's height (35 degrees)
   orbit.r = 1.1 * 0.5 * Math.max(1e-3, Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2])) / Math.tan(17.5 * Math.PI / 180);
 }
+// the view's shape: 35 degrees across its shorter side, so that a tall narrow view (three
+// engines side by side) shows the width that a wide one shows the height of
+function setAspect(aspect) {
+  camera.aspect = aspect;
+  camera.fov = aspect >= 1 ? 35 : 2 * Math.atan(Math.tan(17.5 * Math.PI / 180) / aspect) * 180 / Math.PI;
+  camera.updateProjectionMatrix();
+}
 function placeCamera() {
   var o = orbit;
   camera.position.set(o.target.x + o.r * Math.sin(o.phi) * Math.sin(o.theta),

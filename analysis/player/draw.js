@@ -13,8 +13,7 @@ function drawGrid(shown, frames) {
     var x = (n % c.cols) * w, yTop = Math.floor(n / c.cols) * h;
     renderer.setScissor(x, H - yTop - h, w, h);
     renderer.setViewport(x, H - yTop - h, w, h);
-    camera.aspect = w / h;
-    camera.updateProjectionMatrix();
+    setAspect(w / h);
     renderer.render(v.scene, camera);
     var f = frames[views.indexOf(v)];
     addLabel(v.e, f, x, yTop, w);
@@ -26,8 +25,7 @@ function drawOverlay(shown, frames, t) {
   // the colliders where the first shown engine's set has them
   var e0 = shown.length ? shown[0].e : engines[0];
   placeColliders(overlay.colliders, e0.set, t);
-  camera.aspect = W / H;
-  camera.updateProjectionMatrix();
+  setAspect(W / H);
   renderer.render(overlay.scene, camera);
   shown.forEach(function (v, n) {
     var f = frames[views.indexOf(v)];
