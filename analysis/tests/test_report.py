@@ -161,10 +161,13 @@ class EdgeOnFixture(ReportChecks, unittest.TestCase):
 
 
 class ChainBesideCloth(ReportChecks, unittest.TestCase):
-    """--compare of a chain with a draped cloth: the shadow plot is drawn, the chain's panel
-    says its shadow is empty."""
+    """--compare of a chain with a draped cloth (two scenarios: --force, and a warning): the
+    shadow plot is drawn, the chain's panel says its shadow is empty."""
     folders = (os.path.join(rc.FIXTURES, "chain"), os.path.join(rc.FIXTURES, "run"))
-    extra_args = ("--svg",)
+    extra_args = ("--svg", "--force")
+
+    def test_warns_that_the_scenarios_differ(self):
+        self.assertIn("report: warning: --compare:", self.result.stderr)
 
     def test_chain_panel_names_the_empty_shadow(self):
         svg = self.svg("shadow")
