@@ -10,8 +10,8 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "harness/io/output_schema.hpp"
-#include "harness/scenario/scenario_schema.hpp"
 #include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_schema.hpp"
 
 namespace clothbench::cli {
 namespace {

@@ -44,8 +44,8 @@ struct CheckOptions {
   bool update = false;                 // record new baselines instead of comparing
   bool record_perturbed = false;       // with update and overrides: record them anyway
   bool progress = true;
-  int jobs = 1;  // threads for the stability searches
-  double max_run_seconds = 0;  // s per engine run before it stops as a timeout (0: none)
+  int jobs = 1;                         // threads for the stability searches
+  double max_run_seconds = 0;           // s per engine run before it stops as a timeout (0: none)
   PendingBaselines* pending = nullptr;  // update: the new files wait here for the caller's
                                         // commit (nullptr: each scenario commits its own)
 };

@@ -105,8 +105,8 @@ std::optional<std::pair<int, std::string>> toml_structure_problem(std::string_vi
       return std::pair(line, "arrays or inline tables nested more than " +
                                  std::to_string(kMaxTomlDepth) + " deep");
     if (dots >= kMaxTomlDepth)
-      return std::pair(line, "a dotted key of more than " + std::to_string(kMaxTomlDepth) +
-                                 " parts");
+      return std::pair(line,
+                       "a dotted key of more than " + std::to_string(kMaxTomlDepth) + " parts");
     ++i;
   }
   return std::nullopt;

@@ -5,8 +5,8 @@
 #include <toml++/toml.h>
 #include <optional>
 #include <string>
-#include <utility>
 #include <string_view>
+#include <utility>
 
 namespace clothbench {
 
@@ -22,8 +22,8 @@ std::string describe(const toml::node& n);
 inline constexpr int kMaxTomlDepth = 64;
 
 /// What makes text structurally extreme for the TOML parser ("a dotted key of more than 64
-/// parts"), and on which line (from 1), or nullopt when nothing does. Strings and comments are skipped; the
-/// text is not otherwise checked (the parser does that).
+/// parts"), and on which line (from 1), or nullopt when nothing does. Strings and comments are
+/// skipped; the text is not otherwise checked (the parser does that).
 std::optional<std::pair<int, std::string>> toml_structure_problem(std::string_view text);
 
 }  // namespace clothbench

@@ -120,9 +120,8 @@ std::string cause_of(const StabilityConfig& c, const StabilityBracket& b, const 
                      double sc_max_run_seconds) {
   std::string cause;
   if (b.n_stable == 0 && b.unstable_cause == "timeout")
-    cause = "timeout at dt = " + format_double(grid.dt(b.n_unstable)) +
-            " s (--max-run-seconds " + format_double(sc_max_run_seconds) +
-            " s): no stable dt found";
+    cause = "timeout at dt = " + format_double(grid.dt(b.n_unstable)) + " s (--max-run-seconds " +
+            format_double(sc_max_run_seconds) + " s): no stable dt found";
   else if (b.n_stable == 0)
     cause = b.unstable_cause + " at every dt tried down to " +
             format_double(grid.dt(b.n_unstable)) + " s (the engine's dt / 2^" +
