@@ -11,6 +11,7 @@
 #include "exit_codes.hpp"
 #include "harness/io/output_lock.hpp"
 #include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_overrides.hpp"
 #include "harness/sweeps/stability_map.hpp"
 #include "support/option_checks.hpp"
 #include "support/scenario_input.hpp"
@@ -80,10 +81,8 @@ void check_vary_values(const MapArgs& a, const Load& load) {
       try {
         load({k.override_text(v)});
       } catch (const UserError& e) {
-        std::string why = e.what();
-        const std::string as_set = "--set " + k.key + ": ";
-        if (why.rfind(as_set, 0) == 0) why = why.substr(as_set.size());
-        throw UserError("--vary " + a.vary[i] + ": the value " + k.values[v] + ": " + why);
+        throw UserError(
+            as_option_error(e.what(), k.key, "--vary " + a.vary[i] + ": the value " + k.values[v]));
       }
     }
   }

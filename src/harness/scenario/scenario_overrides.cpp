@@ -193,4 +193,10 @@ void apply_override(toml::table& root, const std::string& text) {
   }
 }
 
+std::string as_option_error(const std::string& message, const std::string& key,
+                            const std::string& option) {
+  const std::string as_set = kOverridePrefix + key + ": ";
+  return option + ": " + (message.rfind(as_set, 0) == 0 ? message.substr(as_set.size()) : message);
+}
+
 }  // namespace clothbench

@@ -17,4 +17,10 @@ namespace clothbench {
 /// key.
 void apply_override(toml::table& root, const std::string& text);
 
+/// The message of an error that an override of key gave, told as the option the user really
+/// gave (a --vary value, a --resolutions grid): its leading "--set key: " is replaced by
+/// option + ": ". Other messages keep their text behind option + ": ".
+std::string as_option_error(const std::string& message, const std::string& key,
+                            const std::string& option);
+
 }  // namespace clothbench

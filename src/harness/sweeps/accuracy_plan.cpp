@@ -11,6 +11,7 @@
 #include "harness/scenario/engine_refusal.hpp"
 #include "harness/scenario/scenario_format.hpp"
 #include "harness/scenario/scenario_loader.hpp"
+#include "harness/scenario/scenario_overrides.hpp"
 #include "harness/scenario/scenario_writer.hpp"
 #include "harness/sweeps/sweep.hpp"
 
@@ -201,10 +202,8 @@ void plan_grids(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& plan
                           "cloth.total_mass=" + format_double(total_mass(sc))}));
     } catch (const UserError& e) {
       // the grid is the user's --resolutions value, not a --set they gave
-      std::string why = e.what();
-      const std::string as_set = "--set cloth.particles: ";
-      if (why.rfind(as_set, 0) == 0) why = why.substr(as_set.size());
-      throw UserError("--resolutions " + std::to_string(r) + ": " + why);
+      throw UserError(
+          as_option_error(e.what(), "cloth.particles", "--resolutions " + std::to_string(r)));
     }
   }
 }
