@@ -22,13 +22,15 @@ class Schema:
     text      columns kept as strings
     flags     columns holding 0 or 1 (true/false also accepted), read as float 0.0 / 1.0
     keys      columns that must not be empty in any row
+    optional  numeric columns read as numbers when present (newer columns an older run lacks)
     """
 
-    def __init__(self, required, text=(), flags=(), keys=()):
+    def __init__(self, required, text=(), flags=(), keys=(), optional=()):
         self.required = list(required)
         self.text = set(text)
         self.flags = set(flags)
         self.keys = set(keys)
+        self.optional = set(optional)
 
 
 SCHEMAS = {
@@ -37,7 +39,9 @@ SCHEMAS = {
          "contact_work", "unbooked", "total_energy", "energy_error", "max_strain", "mean_strain",
          "com_x", "com_y", "com_z",
          "min_y", "max_penetration", "shadow_area", "stable"],
-        text=["engine"], flags=["stable"], keys=["engine", "t", "stable"]),
+        text=["engine"], flags=["stable"], keys=["engine", "t", "stable"],
+        optional=["contacts", "contact_fx", "contact_fy", "contact_fz", "max_stretch",
+                  "max_compression", "self_intersections", "min_self_distance"]),
     "divergence.csv": Schema(
         ["engine", "reference", "t", "rms_distance", "max_distance", "com_distance",
          "energy_difference", "shadow_area_difference"],
@@ -183,7 +187,7 @@ def _parsed_column(path, c, cells, schema):
     for line_no, cell in cells:
         if c in schema.keys and cell == "":
             raise ReportError(f"{path} line {line_no}, column '{c}': empty value (required)")
-    if c in schema.text or c not in schema.required:
+    if c in schema.text or (c not in schema.required and c not in schema.optional):
         return np.array([cell for _, cell in cells], dtype=object)
     values = []
     for line_no, cell in cells:

@@ -106,7 +106,10 @@ def payload(folders, colors):
         idx = tr.index
         sets.append({"grid": list(tr.grid), "spacing": idx["spacing"], "springs": idx["springs"],
                      "shapes": idx["shapes"], "held": idx["held"], "interval": tr.interval,
-                     "frames": idx["frames"], "colliders": _b64(tr.colliders)})
+                     "frames": idx["frames"], "colliders": _b64(tr.colliders),
+                     "particles": int(idx.get("particles", tr.grid[0] * tr.grid[1])),
+                     "triangles": [int(i) for i in tr.triangles().ravel()],
+                     "edges": idx.get("edges")})
         first = len(engines)
         for e in idx["engines"]:
             label = e["name"] if len(folders) == 1 else f"{f.label}: {e['name']}"
@@ -115,6 +118,7 @@ def payload(folders, colors):
                             "rgb": rgb, "set_index": n, "interval": tr.interval,
                             "frames": e["frames"], "stable": bool(e["stable"]),
                             "blowup_t": e["blowup_t"], "cause": e["cause"],
+                            "crossings": tr.crossings(e["name"]),
                             "data": _quantized(tr.positions[e["name"]])})
         ref = first + [e["name"] for e in idx["engines"]].index(idx["reference"])
         # before/after: distances to the first folder's reference when the grids match

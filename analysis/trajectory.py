@@ -49,10 +49,11 @@ class Trajectory:
     def _load_arrays(self, base):
         """The engines' and colliders' arrays the index names, checked against its shapes."""
         nu, nv = self.index["grid"]
+        particles = int(self.index.get("particles", int(nu) * int(nv)))
         self.positions = {}
         for e in self.index["engines"]:
             self.positions[e["name"]] = _load(os.path.join(base, e["file"]),
-                                              (int(e["frames"]), int(nu) * int(nv), 3))
+                                              (int(e["frames"]), particles, 3))
         self.colliders = _load(os.path.join(base, self.index["colliders_file"]),
                                (int(self.index["frames"]), len(self.index["shapes"]), 3))
 
@@ -68,12 +69,24 @@ class Trajectory:
     def engines(self):
         return [e["name"] for e in self.index["engines"]]
 
+    def crossings(self, engine):
+        """{frame: [triangle, ...]} of the engine's trajectory frames where the cloth crosses
+        itself (the triangles pierced and those holding a piercing edge); empty for runs
+        written before self-intersection was measured."""
+        for e in self.index["engines"]:
+            if e["name"] == engine:
+                return {int(k): [int(t) for t in tris] for k, tris in e.get("crossings", [])}
+        return {}
+
     def times(self, engine):
         """Times (s) of an engine's frames."""
         return np.arange(len(self.positions[engine])) * self.interval
 
     def triangles(self):
-        """Faces of the grid as an array (faces, 3) of particle indices (two per cell)."""
+        """Faces of the cloth as an array (faces, 3) of particle indices: the index's list
+        (written since self-intersection was measured), else the grid's two per cell."""
+        if self.index.get("triangles") is not None:
+            return np.array(self.index["triangles"], dtype=np.int64).reshape(-1, 3)
         nu, nv = self.grid
         faces = []
         for j in range(nv - 1):
@@ -92,6 +105,8 @@ class Trajectory:
 
     def strain(self, x):
         """Per-vertex strain |l/l0 - 1| averaged over the vertex's springs, x (particles, 3)."""
+        if self.index.get("edges"):
+            return self._edge_strain(x)
         nu, nv = self.grid
         du, dv = self.index["spacing"]
         g = np.asarray(x, dtype=np.float64).reshape(nv, nu, 3)
@@ -114,6 +129,16 @@ class Trajectory:
             total[j0 + dj:j1 + dj, i0 + di:i1 + di] += s
             count[j0 + dj:j1 + dj, i0 + di:i1 + di] += 1
         return (total / np.maximum(count, 1)).reshape(-1)
+
+    def _edge_strain(self, x):
+        """strain() of a mesh, from its edges [a, b, rest length] in the index."""
+        x = np.asarray(x, dtype=np.float64).reshape(-1, 3)
+        edges = np.asarray(self.index["edges"], dtype=np.float64).reshape(-1, 3)
+        a, b, rest = edges[:, 0].astype(np.int64), edges[:, 1].astype(np.int64), edges[:, 2]
+        s = np.abs(np.linalg.norm(x[b] - x[a], axis=-1) / rest - 1.0)
+        total = np.bincount(a, s, len(x)) + np.bincount(b, s, len(x))
+        count = np.bincount(a, minlength=len(x)) + np.bincount(b, minlength=len(x))
+        return total / np.maximum(count, 1)
 
 
 def _load(path, shape):

@@ -149,12 +149,45 @@ def _drape_and_cost_lines(f):
     return lines
 
 
+def _layer_lines(f, engines):
+    """Which engines let the cloth pass through itself (frames.csv's self_intersections), and
+    how close the layers of the others came; nothing for runs written before it was measured."""
+    if not f.has("frames.csv") or "self_intersections" not in f.table("frames.csv"):
+        return []
+    frames = f.table("frames.csv")
+    crossed, lines = [], []
+    for e in engines:
+        rows = _sorted_rows(frames, e)
+        counts = rows["self_intersections"]
+        seen = np.isfinite(counts)
+        if not np.any(seen):
+            continue
+        if np.any(counts[seen] > 0):
+            first = rows["t"][seen][counts[seen] > 0][0]
+            worst = int(counts[seen].max())
+            last = counts[seen][-1]
+            crossed.append(e)
+            lines.append(("bad", f"{e}: LAYERS CROSSED from t = {num(first)} s: up to {worst} "
+                          f"edge-triangle crossings in a frame, {int(last)} in its last measured "
+                          "frame."))
+        else:
+            gap = rows["min_self_distance"][seen]
+            gap = gap[np.isfinite(gap)]
+            closest = f"; closest approach {length(float(gap.min()))}" if len(gap) else ""
+            lines.append(("ok", f"{e}: no crossing in any frame{closest}."))
+    if crossed:
+        lines.insert(0, ("bad", "Engines that let the cloth pass through itself: "
+                         + ", ".join(crossed) + "."))
+    return lines
+
+
 def run_verdicts(f):
     """Verdicts of one run folder (any of frames, divergence, summary, snapshots)."""
     engines = f.engines()
     groups = [("Stability", _stability_lines(f, engines, f.scenario.get("duration"))),
               ("Energy", _energy_lines(f, engines)),
               ("Divergence from the reference", _divergence_lines(f)),
+              ("Layers (self-intersection)", _layer_lines(f, engines)),
               ("Drape and cost", _drape_and_cost_lines(f))]
     groups = [(heading, lines) for heading, lines in groups if lines]
     return groups + [g for g in [attribution_verdicts(f)] if g]

@@ -7,6 +7,10 @@ function loadSets() {
   return D.sets.map(function (s) {
     s.collider = decode(s.colliders);
     var nu = s.grid[0], nv = s.grid[1], idx = [];
+    if (s.triangles) {
+      s.index = s.triangles;
+      return s;
+    }
     for (var j = 0; j + 1 < nv; j++)
       for (var i = 0; i + 1 < nu; i++) {
         var a = j * nu + i, b = a + 1, c = a + nu, d = c + 1;
@@ -20,7 +24,7 @@ function loadEngines() {
   return D.engines.map(function (e) {
     e.pos = dequantize(e.data);
     e.set = sets[e.set_index];
-    e.n = e.set.grid[0] * e.set.grid[1];
+    e.n = e.set.particles || e.set.grid[0] * e.set.grid[1];
     return e;
   });
 }

@@ -7,7 +7,19 @@ function frameOf(e, t) {
 }
 function vertex(e, k, p) { var o = (k * e.n + p) * 3; return [e.pos[o], e.pos[o + 1], e.pos[o + 2]]; }
 
+// a mesh's strain over its edges [a, b, rest]
+function edgeStrainOf(e, k) {
+  var out = new Float32Array(e.n), cnt = new Float32Array(e.n);
+  e.set.edges.forEach(function (g) {
+    var x = vertex(e, k, g[0]), y = vertex(e, k, g[1]);
+    var v = Math.abs(Math.hypot(y[0] - x[0], y[1] - x[1], y[2] - x[2]) / g[2] - 1);
+    out[g[0]] += v; out[g[1]] += v; cnt[g[0]]++; cnt[g[1]]++;
+  });
+  for (var p = 0; p < e.n; p++) out[p] = cnt[p] ? out[p] / cnt[p] : 0;
+  return out;
+}
 function strainOf(e, k) {
+  if (e.set.edges) return edgeStrainOf(e, k);
   var s = e.set, nu = s.grid[0], nv = s.grid[1], out = new Float32Array(e.n), cnt = new Float32Array(e.n);
   s.springs.forEach(function (o) {
     var di = o[0], dj = o[1], rest = Math.hypot(di * s.spacing[0], dj * s.spacing[1]);

@@ -15,6 +15,12 @@ function paintCloth(v, e, f, t) {
   v.geom.attributes.color.needsUpdate = true;
   v.geom.computeVertexNormals();
 }
+// the triangles of frame f where engine e's cloth crosses itself, red over the cloth
+function paintCrossings(v, e, f) {
+  var tris = f.past || !e.crossings ? null : e.crossings[f.k], idx = [], I = e.set.index;
+  if (tris) tris.forEach(function (t) { idx.push(I[3 * t], I[3 * t + 1], I[3 * t + 2]); });
+  v.cross.setIndex(idx);
+}
 // the colliders' meshes where set s has them at time t
 function placeColliders(meshes, s, t) {
   var kc = Math.min(Math.round(t / s.interval), s.frames - 1), S = s.shapes.length;
@@ -26,6 +32,7 @@ function placeColliders(meshes, s, t) {
 function paint(v, t) {
   var e = v.e, f = frameOf(e, t);
   paintCloth(v, e, f, t);
+  paintCrossings(v, e, f);
   var hp = v.held.attributes.position.array;
   e.set.held.forEach(function (p, k) { var x = vertex(e, f.k, p); hp[3 * k] = x[0]; hp[3 * k + 1] = x[1]; hp[3 * k + 2] = x[2]; });
   v.held.attributes.position.needsUpdate = true;

@@ -2,7 +2,7 @@
 // every engine (the overlay), each with the cloth, its grid lines, the held particles and
 // the colliders.
 var box, W, H, renderer, vc;
-var colliderMat, heldMat, clothMat, edgeMat;
+var colliderMat, heldMat, clothMat, edgeMat, crossMat;
 var views, overlay;
 
 function createRenderer() {
@@ -22,6 +22,16 @@ function createMaterials() {
   clothMat = new THREE.MeshLambertMaterial({ vertexColors: vc, side: THREE.DoubleSide });
   // faint grid lines: a flat cloth reads as a cloth; black at low opacity keeps every colour's hue
   edgeMat = new THREE.MeshBasicMaterial({ color: 0x000000, wireframe: true, transparent: true, opacity: 0.12 });
+  // triangles where the cloth crosses itself, drawn over the cloth in red
+  crossMat = new THREE.MeshBasicMaterial({ color: 0xd62728, side: THREE.DoubleSide, polygonOffset: true,
+                                           polygonOffsetFactor: -2, polygonOffsetUnits: -2 });
+}
+// a geometry over the cloth's own positions whose index paint() sets to the crossing triangles
+function crossingGeometry(g) {
+  var c = new THREE.BufferGeometry();
+  c.setAttribute ? c.setAttribute("position", g.attributes.position) : c.addAttribute("position", g.attributes.position);
+  c.setIndex([]);
+  return c;
 }
 
 function sceneWithLights() {
@@ -87,9 +97,10 @@ function createViews() {
     var hg = new THREE.BufferGeometry();
     var hp = new THREE.BufferAttribute(new Float32Array(e.set.held.length * 3), 3);
     hg.setAttribute ? hg.setAttribute("position", hp) : hg.addAttribute("position", hp);
-    var v = { e: e, geom: g, held: hg, scene: sceneWithLights() };
+    var v = { e: e, geom: g, held: hg, cross: crossingGeometry(g), scene: sceneWithLights() };
     v.scene.add(new THREE.Mesh(g, clothMat));
     v.scene.add(new THREE.Mesh(g, edgeMat));
+    v.scene.add(new THREE.Mesh(v.cross, crossMat));
     v.scene.add(new THREE.Points(hg, heldMat));
     v.colliders = addColliders(v.scene, e.set);
     return v;
@@ -101,6 +112,7 @@ function createOverlay() {
     var m = new THREE.Mesh(v.geom, clothMat);
     overlay.scene.add(m);
     m.add(new THREE.Mesh(v.geom, edgeMat));
+    m.add(new THREE.Mesh(v.cross, crossMat));
     var h = new THREE.Points(v.held, heldMat);
     overlay.scene.add(h);
     overlay.meshes.push([m, h]);

@@ -4,11 +4,11 @@ have nothing to show on some data also has skip_reason(folders) -> None, or the 
 shows in its place."""
 
 from . import (convergence, divergence, drape, energy, reference, resolution,
-               resolution_recommendation, shadow, stability, stability_map, strain,
-               work_precision)
+               resolution_recommendation, self_contact, shadow, stability, stability_map,
+               strain, work_precision)
 
 # in the order the report shows them
-ALL = [energy, divergence, strain, drape, shadow, work_precision, convergence, resolution,
+ALL = [energy, divergence, strain, self_contact, drape, shadow, work_precision, convergence, resolution,
        stability, stability_map, reference, resolution_recommendation]
 
 

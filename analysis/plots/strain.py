@@ -8,9 +8,18 @@ from .energy import frame_engines
 
 STEM = "strain"
 TITLE = "Strain over time"
-CAPTION = ("Largest and mean spring strain |l|/l0 − 1 over time per engine. A run is unstable "
-           "from the first step where the largest strain passes the blow-up threshold (or a "
-           "coordinate is not finite); that point is marked with a cross.")
+CAPTION = ("Left: the largest stretch l/l0 − 1 of a structural or shear spring (edge springs on "
+           "a mesh; bend springs, which close up across a fold, left out) over time per engine. "
+           "Right: the mean spring strain |l/l0 − 1| over every spring. A run is unstable from "
+           "the first step where the largest stretch passes the blow-up threshold (or a "
+           "coordinate is not finite); that point is marked with a cross. Runs written before "
+           "stretch was measured show the largest strain over every spring instead.")
+
+
+def _largest_column(folders):
+    """max_stretch where every folder has it, else max_strain (older runs)."""
+    ok = all("max_stretch" in f.table("frames.csv") for f in folders if f.has("frames.csv"))
+    return ("max_stretch", "largest stretch") if ok else ("max_strain", "largest strain")
 
 
 def available(folder):
@@ -20,7 +29,8 @@ def available(folder):
 def draw(folders, ctx):
     engines = frame_engines(folders)
     fig, axes = plt.subplots(1, 2, figsize=(12, 5.6), layout="constrained")
-    for ax, col, name in ((axes[0], "max_strain", "largest strain"),
+    largest, largest_name = _largest_column(folders)
+    for ax, col, name in ((axes[0], largest, largest_name),
                           (axes[1], "mean_strain", "mean strain")):
         values = []
         for k, f in enumerate(folders):
@@ -53,9 +63,9 @@ def draw(folders, ctx):
                                 color="tab:red", fontsize=style.FONT - 1)
         # the largest strain is read against the blow-up threshold: log scale when positive
         positive = style.finite(values)
-        if (col == "max_strain" and np.any(positive > 0)) or style.use_log(values, span=30.0):
+        if (col == largest and np.any(positive > 0)) or style.use_log(values, span=30.0):
             ax.set_yscale("log", nonpositive="mask")
-        if col == "max_strain":
+        if col == largest:
             limit = max(f.blowup_strain() for f in folders)
             ax.axhline(limit, color="tab:red", ls=":", lw=1.2,
                        label=f"blow-up threshold {style.fmt(limit)}")

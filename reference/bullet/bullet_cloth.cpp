@@ -111,14 +111,9 @@ btSoftBody* build_soft_body(btSoftBodyWorldInfo& info, const cloth::Model& model
     btSoftBody::Link& l = body->m_links[body->m_links.size() - 1];
     l.m_bbending = s.kind == cloth::SpringKind::bend ? 1 : 0;
   }
-  // two triangles per grid cell, for collision normals and Bullet's face-based queries
-  for (int j = 0; j + 1 < model.nv; ++j) {
-    for (int i = 0; i + 1 < model.nu; ++i) {
-      const int p = j * model.nu + i;
-      body->appendFace(p, p + 1, p + model.nu + 1);
-      body->appendFace(p, p + model.nu + 1, p + model.nu);
-    }
-  }
+  // the cloth's surface (a grid's cells split along a diagonal, a mesh's faces), for collision
+  // normals and Bullet's face-based queries
+  for (const cloth::Triangle& tri : model.triangles) body->appendFace(tri[0], tri[1], tri[2]);
   // the start state, once the rest lengths are taken from the rest positions
   for (int p = 0; p < n; ++p) {
     btSoftBody::Node& node = body->m_nodes[p];

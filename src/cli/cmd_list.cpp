@@ -22,8 +22,11 @@ int execute_list() {
     // a scenario that does not load is listed with the reason, not fatal
     try {
       const Scenario sc = load_scenario(f.string());
-      std::cout << "  " << sc.name << "  " << sc.scene.cloth.nu << "x" << sc.scene.cloth.nv << ", "
-                << sc.engines.size() << " engines: " << sc.description << '\n';
+      const std::string cloth =
+          sc.scene.mesh ? std::to_string(sc.scene.particle_count()) + "-vertex mesh"
+                        : std::to_string(sc.scene.cloth.nu) + "x" + std::to_string(sc.scene.cloth.nv);
+      std::cout << "  " << sc.name << "  " << cloth << ", " << sc.engines.size()
+                << " engines: " << sc.description << '\n';
     } catch (const std::exception& e) {
       std::cout << "  " << f.filename().string() << "  (does not load: " << e.what() << ")\n";
     }

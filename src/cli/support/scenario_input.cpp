@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <iostream>
 
 #include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario_loader.hpp"
@@ -15,7 +16,10 @@ Scenario load_or_seed(const std::string& path, const std::vector<std::string>& o
   if (path.empty())
     return parse_scenario(embedded_default_scenario(), "<embedded seed_sphere_drape>", overrides,
                           only);
-  return load_scenario(path, overrides, only);
+  Scenario sc = load_scenario(path, overrides, only);
+  // what loading accepted but a user should know (an unused mesh vertex)
+  for (const std::string& w : sc.warnings) std::cerr << "clothbench: warning: " << w << '\n';
+  return sc;
 }
 
 void refuse_overwriting_input(const std::string& scenario_path, const std::string& out_dir,
@@ -31,8 +35,9 @@ void refuse_overwriting_input(const std::string& scenario_path, const std::strin
 
 std::vector<std::string> shipped_scenarios() {
   std::vector<std::string> files;
-  for (const auto& e : std::filesystem::directory_iterator(CLOTHBENCH_SCENARIO_DIR))
-    if (e.path().extension() == ".toml") files.push_back(e.path().string());
+  // scenarios/**/*.toml; the meshes they read live in scenarios/meshes/ and are not scenarios
+  for (const auto& e : std::filesystem::recursive_directory_iterator(CLOTHBENCH_SCENARIO_DIR))
+    if (e.is_regular_file() && e.path().extension() == ".toml") files.push_back(e.path().string());
   std::sort(files.begin(), files.end());
   return files;
 }

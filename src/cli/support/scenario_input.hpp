@@ -21,7 +21,7 @@ Scenario load_or_seed(const std::string& path, const std::vector<std::string>& o
 void refuse_overwriting_input(const std::string& scenario_path, const std::string& out_dir,
                               const std::string& written);
 
-/// Every shipped scenario file (scenarios/*.toml of the source tree), sorted.
+/// Every shipped scenario file (scenarios/**/*.toml of the source tree), sorted.
 std::vector<std::string> shipped_scenarios();
 
 }  // namespace clothbench::cli

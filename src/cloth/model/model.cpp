@@ -1,7 +1,10 @@
 #include "cloth/model/model.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
+
+#include "cloth/model/triangle_mesh.hpp"
 
 namespace cloth {
 
@@ -37,21 +40,96 @@ Matrix3X grid_positions(const ClothParams& c) {
   return x;
 }
 
-Model build_model(const Scene& scene) {
+std::vector<Triangle> grid_triangles(int nu, int nv) {
+  std::vector<Triangle> out;
+  if (nu < 2 || nv < 2) return out;
+  out.reserve(2 * static_cast<size_t>(nu - 1) * static_cast<size_t>(nv - 1));
+  for (int j = 0; j + 1 < nv; ++j)
+    for (int i = 0; i + 1 < nu; ++i) {
+      const int p00 = j * nu + i, p10 = p00 + 1, p01 = p00 + nu, p11 = p01 + 1;
+      out.push_back({p00, p10, p11});
+      out.push_back({p00, p11, p01});
+    }
+  return out;
+}
+
+int Scene::particle_count() const {
+  return mesh ? static_cast<int>(mesh->x.cols()) : cloth.nu * cloth.nv;
+}
+
+Matrix3X rest_positions(const Scene& scene) {
+  return scene.mesh ? scene.mesh->x : grid_positions(scene.cloth);
+}
+
+namespace {
+
+// a grid's particles weigh alike; a mesh's vertices a third of their triangles' area each
+VectorX particle_masses(const Scene& scene) {
   const ClothParams& c = scene.cloth;
-  if (c.nu < 1 || c.nv < 1 || c.nu * c.nv < 2)
+  const int n = scene.particle_count();
+  if (scene.mesh) {
+    const double area = mesh_area(*scene.mesh);
+    const double density = c.areal_density > 0                ? c.areal_density
+                           : c.total_mass > 0 && area > 0 ? c.total_mass / area
+                                                              : 0.0;
+    if (!(density > 0)) throw std::invalid_argument("a mesh needs areal_density or total_mass");
+    return lumped_masses(*scene.mesh, density);
+  }
+  const double total =
+      c.areal_density > 0 ? c.areal_density * c.size_u * c.size_v : c.total_mass;
+  const double pm = total > 0 ? total / n : c.particle_mass;
+  if (!(pm > 0)) throw std::invalid_argument("particle mass must be positive");
+  return VectorX::Constant(n, pm);
+}
+
+// one structural spring per edge, one bend spring per interior edge across its two triangles
+SpringSet mesh_springs(const ClothParams& c, const TriangleMesh& mesh) {
+  const MeshEdges e = mesh_edges(mesh);
+  std::vector<SpringLink> links;
+  const auto add = [&](int a, int b, double k, SpringKind kind) {
+    links.push_back({std::min(a, b), std::max(a, b), (mesh.x.col(b) - mesh.x.col(a)).norm(), k,
+                     kind});
+  };
+  if (c.k_structural > 0)
+    for (const auto& [a, b] : e.edges) add(a, b, c.k_structural, SpringKind::structural);
+  if (c.k_bend > 0)
+    for (const auto& [a, b] : e.bend_pairs) add(a, b, c.k_bend, SpringKind::bend);
+  return general_springs(links, c.damping);
+}
+
+// the particles, their masses and held axes of a grid or a mesh
+void build_particles(const Scene& scene, Model& m) {
+  const ClothParams& c = scene.cloth;
+  if (!scene.mesh && (c.nu < 1 || c.nv < 1 || c.nu * c.nv < 2))
     throw std::invalid_argument("the cloth needs at least 1 x 2 particles, got " +
                                 std::to_string(c.nu) + " x " + std::to_string(c.nv));
-  const int n = c.nu * c.nv;
-  Model m;
-  m.nu = c.nu;
-  m.nv = c.nv;
-  m.x0 = grid_positions(c);
-  const double pm = c.total_mass > 0 ? c.total_mass / n : c.particle_mass;
-  if (!(pm > 0)) throw std::invalid_argument("particle mass must be positive");
-  m.mass = VectorX::Constant(n, pm);
-  m.inv_mass = VectorX::Constant(n, 1.0 / pm);
+  const int n = scene.particle_count();
+  // a mesh is listed as one row of vertices in file order: i is the vertex index, j is 0
+  m.nu = scene.mesh ? n : c.nu;
+  m.nv = scene.mesh ? 1 : c.nv;
+  m.is_mesh = scene.mesh != nullptr;
+  m.x0 = rest_positions(scene);
+  m.mass = particle_masses(scene);
   m.free = Matrix3X::Ones(3, n);
+  m.inv_mass = VectorX::Zero(n);
+  for (int p = 0; p < n; ++p) {
+    if (m.mass[p] > 0) {
+      m.inv_mass[p] = 1.0 / m.mass[p];
+      continue;
+    }
+    // a vertex of no triangle has no area and no mass: it stays where it is
+    m.free.col(p).setZero();
+    m.any_held = true;
+  }
+}
+
+}  // namespace
+
+Model build_model(const Scene& scene) {
+  const ClothParams& c = scene.cloth;
+  const int n = scene.particle_count();
+  Model m;
+  build_particles(scene, m);
   if (!scene.held.empty()) {
     if (static_cast<int>(scene.held.size()) != n)
       throw std::invalid_argument("held-axis mask has " + std::to_string(scene.held.size()) +
@@ -71,7 +149,8 @@ Model build_model(const Scene& scene) {
       m.free.col(p).setZero();
       m.any_held = true;
     }
-  m.springs = build_springs(c, m.x0);
+  m.springs = scene.mesh ? mesh_springs(c, *scene.mesh) : build_springs(c, m.x0);
+  m.triangles = scene.mesh ? scene.mesh->triangles : grid_triangles(c.nu, c.nv);
   m.gravity = scene.gravity;
   m.air_drag = c.air_drag;
   m.wind = scene.wind;

@@ -12,14 +12,16 @@ namespace cloth {
 
 /// The discrete cloth every engine and every metric works from.
 struct Model {
-  int nu = 0;
-  int nv = 0;
+  int nu = 0;             // a grid's particles along u; a mesh's vertices
+  int nv = 0;             // a grid's particles along v; 1 for a mesh
+  bool is_mesh = false;   // a triangle mesh: its springs are a general list, not grid families
   Matrix3X x0;       // 3 by #P initial (rest) positions (m)
   VectorX mass;      // #P particle masses (kg)
   VectorX inv_mass;  // #P inverse masses (1/kg)
   Matrix3X free;     // 3 by #P: 1 where the axis moves, 0 where it is held
   bool any_held = false;
   SpringSet springs;
+  std::vector<Triangle> triangles;  // the surface: grid cells split along a diagonal, or a mesh's faces
   Vector3 gravity = Vector3::Zero();  // m/s^2
   double air_drag = 0;                // N s/m
   Vector3 wind = Vector3::Zero();     // m/s
@@ -42,9 +44,18 @@ struct Model {
   }
 };
 
+/// Rest positions of the scene's cloth: its mesh's vertices or its grid's particles.
+/// @return 3 by #P positions (m)
+Matrix3X rest_positions(const Scene& scene);
+
 /// Grid positions of the flat cloth described by c.
 /// @return 3 by #P positions (m)
 Matrix3X grid_positions(const ClothParams& c);
+
+/// Triangles of an nu by nv grid (particle p = j nu + i): two per cell, split along the
+/// diagonal from (i, j) to (i + 1, j + 1), as (p00, p10, p11) and (p00, p11, p01), cells in
+/// order j then i. None when nu or nv is below 2.
+std::vector<Triangle> grid_triangles(int nu, int nv);
 
 /// Builds the model of a scene; throws std::invalid_argument for an impossible scene.
 Model build_model(const Scene& scene);

@@ -6,6 +6,7 @@
 /// from scenario files, the engines read them.
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "cloth/model/types.hpp"
@@ -26,8 +27,9 @@ struct ClothParams {
   double size_v = 4.0;               // m, extent along v
   Vector3 center = {0.0, 1.0, 0.0};  // m
   Plane plane = Plane::xz;
-  double particle_mass = 1.0;   // kg, used when total_mass is 0
-  double total_mass = 0.0;      // kg, spread evenly; 0: use particle_mass
+  double particle_mass = 1.0;   // kg, used when total_mass and areal_density are 0
+  double total_mass = 0.0;      // kg, spread evenly (a mesh: by area); 0: not given
+  double areal_density = 0.0;   // kg/m^2, mass per area of cloth; 0: not given
   double k_structural = 2.0e4;  // N/m, 0: no structural springs
   double k_shear = 2.0e4;       // N/m, 0: no shear springs
   double k_bend = 2.0e4;        // N/m, 0: no bend springs
@@ -115,9 +117,13 @@ struct Handle {
   Motion motion;
 };
 
+struct TriangleMesh;
+
 /// Everything an engine needs to build the same physical scene.
 struct Scene {
-  ClothParams cloth;
+  ClothParams cloth;  // a mesh's cloth reads only the masses, stiffness (no shear) and damping
+  /// The cloth as a triangle mesh (vertices, faces and named groups); null: the grid of cloth.
+  std::shared_ptr<const TriangleMesh> mesh;
   Vector3 gravity = {0.0, -9.8, 0.0};  // m/s^2
   Vector3 wind = {0.0, 0.0, 0.0};      // m/s, air velocity for cloth.air_drag
   std::vector<Sphere> spheres;
@@ -126,7 +132,8 @@ struct Scene {
   /// #P held-axis masks (AxisBits); empty means nothing is held.
   std::vector<std::uint8_t> held;
 
-  int particle_count() const { return cloth.nu * cloth.nv; }
+  /// The mesh's vertices, or the grid's nu nv particles.
+  int particle_count() const;
 };
 
 /// Column index of grid particle (i, j).

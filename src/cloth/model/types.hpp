@@ -8,6 +8,7 @@
 /// (structure of arrays): the force kernels stream x, y and z separately and vectorise.
 
 #include <Eigen/Core>
+#include <array>
 #include <cstdint>
 
 namespace cloth {
@@ -18,6 +19,9 @@ using Matrix3X = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
 using VectorX = Eigen::VectorXd;
 using Vector3 = Eigen::Vector3d;
 using Matrix3 = Eigen::Matrix3d;
+
+/// A triangle of the cloth's surface: three particle indices (columns of a 3 by #P matrix).
+using Triangle = std::array<int, 3>;
 
 /// Bit mask of held axes for one particle.
 enum AxisBits : std::uint8_t { kHoldX = 1, kHoldY = 2, kHoldZ = 4, kHoldAll = 7 };

@@ -51,8 +51,9 @@ void check_tolerance_engines(const Tolerances& t, const Scenario& sc, const fs::
     if (!has(engine))
       throw UserError(p.string() + ": [mirror] names engine " + engine + ", which " + sc.name +
                       " does not have");
-  if (!t.mirrored.empty() && sc.scene.cloth.nu < 2)
-    throw UserError(p.string() + ": [mirror] needs a grid at least 2 particles wide");
+  if (!t.mirrored.empty() && (sc.scene.mesh || sc.scene.cloth.nu < 2))
+    throw UserError(p.string() + ": [mirror] needs a grid at least 2 particles wide" +
+                    (sc.scene.mesh ? " (this scenario's cloth is a mesh)" : ""));
 }
 
 // why a quantity is not gated for engines of a kind (empty: it is gated)

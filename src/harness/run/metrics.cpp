@@ -41,8 +41,8 @@ void fill_triangle(std::vector<unsigned char>& mask, int w, int h, const double*
 }  // namespace
 
 double shadow_area(const cloth::Model& model, const Eigen::Vector3d& gravity, const Matrix3X& x) {
-  if (model.nu < 2 || model.nv < 2 || !x.allFinite())
-    return model.nu < 2 || model.nv < 2 ? 0.0 : NAN;
+  if (model.triangles.empty()) return 0.0;
+  if (!x.allFinite()) return NAN;
   // an orthonormal basis (e1, e2) of the plane normal to gravity (y up without gravity)
   const Eigen::Vector3d n =
       gravity.norm() > 0 ? Eigen::Vector3d(-gravity.normalized()) : Eigen::Vector3d::UnitY();
@@ -61,20 +61,26 @@ double shadow_area(const cloth::Model& model, const Eigen::Vector3d& gravity, co
   const int h = static_cast<int>(std::ceil((hi.y() - lo.y()) / cell)) + 1;
   std::vector<unsigned char> mask(static_cast<size_t>(w) * h, 0);
   for (Eigen::Index p = 0; p < np; ++p) q.col(p) = (q.col(p) - lo) / cell;
-  // two triangles per grid cell
-  for (int j = 0; j + 1 < model.nv; ++j)
-    for (int i = 0; i + 1 < model.nu; ++i) {
-      const int p00 = j * model.nu + i, p10 = p00 + 1, p01 = p00 + model.nu, p11 = p01 + 1;
-      fill_triangle(mask, w, h, q.col(p00).data(), q.col(p10).data(), q.col(p11).data());
-      fill_triangle(mask, w, h, q.col(p00).data(), q.col(p11).data(), q.col(p01).data());
-    }
+  for (const cloth::Triangle& tri : model.triangles)
+    fill_triangle(mask, w, h, q.col(tri[0]).data(), q.col(tri[1]).data(), q.col(tri[2]).data());
   size_t covered = 0;
   for (unsigned char c : mask) covered += c;
   return static_cast<double>(covered) * cell * cell;
 }
 
+cloth::SelfIntersectionMeter self_intersection_meter(const cloth::Model& model) {
+  // the mean rest length of the triangles' edges (each interior edge counted twice)
+  double sum = 0;
+  for (const cloth::Triangle& tri : model.triangles)
+    for (int k = 0; k < 3; ++k) sum += (model.x0.col(tri[(k + 1) % 3]) - model.x0.col(tri[k])).norm();
+  const double mean_edge = model.triangles.empty() ? 1.0 : sum / (3.0 * model.triangles.size());
+  return cloth::SelfIntersectionMeter(model.particle_count(), model.triangles,
+                                      mean_edge > 0 ? mean_edge : 1.0);
+}
+
 FrameMetrics frame_metrics(const cloth::Model& model, double t, const Matrix3X& x,
-                           const Matrix3X& v, const EnergyBooks& books, double e0) {
+                           const Matrix3X& v, const EnergyBooks& books, double e0,
+                           const cloth::SelfIntersectionMeter* meter) {
   FrameMetrics m;
   m.t = t;
   const cloth::Energies e = cloth::compute_energies(model, x, v);
@@ -89,6 +95,13 @@ FrameMetrics frame_metrics(const cloth::Model& model, double t, const Matrix3X& 
   const cloth::StrainStats s = cloth::strain_stats(model.springs, x);
   m.max_strain = s.max_abs;
   m.mean_strain = s.mean_abs;
+  m.max_stretch = s.max_stretch;
+  m.max_compression = s.max_compression;
+  if (meter) {
+    const cloth::SelfIntersection si = meter->measure(x);
+    m.self_intersections = si.crossings;
+    m.min_self_distance = si.min_distance;
+  }
   m.com = (x * model.mass) / model.mass.sum();
   m.min_y = x.row(1).minCoeff();
   m.max_penetration = cloth::max_penetration(model.spheres, model.shapes, t, x);

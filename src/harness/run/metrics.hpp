@@ -6,6 +6,7 @@
 #include <cmath>
 #include <vector>
 
+#include "cloth/analysis/self_intersection.hpp"
 #include "cloth/model/model.hpp"
 #include "cloth/model/types.hpp"
 
@@ -38,6 +39,11 @@ struct FrameMetrics {
   double energy_error = 0;       // J, total + dissipated - contact_work - unbooked - initial
   double max_strain = 0;         // largest |l / l0 - 1|
   double mean_strain = 0;        // mean |l / l0 - 1|
+  double max_stretch = 0;        // largest l / l0 - 1 > 0 of a structural, shear or edge spring
+  double max_compression = 0;    // largest 1 - l / l0 > 0 of the same springs
+  int self_intersections = -1;   // edge-triangle crossings of the cloth with itself; -1: unknown
+  double min_self_distance = NAN;  // m, smallest gap between parts more than two rings apart,
+                                   // capped at the mean rest edge length; NaN: unknown
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  // m, mass-weighted centre
   double min_y = 0;                               // m, lowest particle height
   double max_penetration = 0;                     // m, deepest particle below a collider's surface
@@ -61,16 +67,22 @@ struct Divergence {
 /// Cells along the longer side of the shadow raster (area error about perimeter / 2 cells).
 constexpr int kShadowResolution = 512;
 
-/// Area (m^2) of the union of the grid's triangles projected along gravity.
-/// @param x  3 by #P positions (m); triangles are the grid's cells split along a diagonal
+/// Area (m^2) of the union of the model's triangles projected along gravity.
+/// @param x  3 by #P positions (m)
 double shadow_area(const cloth::Model& model, const Eigen::Vector3d& gravity,
                    const cloth::Matrix3X& x);
 
-/// Metrics of state (x, v) at time t; e0 is the initial total energy.
+/// The self-intersection meter of a model's triangles, its distances capped at the mean rest
+/// edge length.
+cloth::SelfIntersectionMeter self_intersection_meter(const cloth::Model& model);
+
+/// Metrics of state (x, v) at time t; e0 is the initial total energy. With a meter (see
+/// self_intersection_meter) the self-intersection columns are measured, else left unknown.
 /// @param x  3 by #P positions (m)
 /// @param v  3 by #P velocities (m/s)
 FrameMetrics frame_metrics(const cloth::Model& model, double t, const cloth::Matrix3X& x,
-                           const cloth::Matrix3X& v, const EnergyBooks& books, double e0);
+                           const cloth::Matrix3X& v, const EnergyBooks& books, double e0,
+                           const cloth::SelfIntersectionMeter* meter = nullptr);
 
 /// The energy scale of the blow-up test (J): the cloth's weight times its largest rest extent
 /// (the work of lifting the cloth by its own size, which bounds the potential energy a drape

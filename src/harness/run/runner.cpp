@@ -10,6 +10,7 @@
 
 #include "cloth/forces/energies.hpp"
 #include "cloth/forces/spring_forces.hpp"
+#include "cloth/model/triangle_mesh.hpp"
 #include "harness/engines/engine_factory.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
@@ -137,10 +138,11 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
 
   // frames sit on the exact grid k * frame_interval; a blow-up row at the failing step's time
   ContactMeter contact(*sim);
+  const cloth::SelfIntersectionMeter meter = self_intersection_meter(model);
   auto log_frame = [&](long long frame, bool stable) {
     const double t = stable ? double(frame) * sc.frame_interval : sim->time();
     FrameMetrics m = contact.read(frame_metrics(model, t, sim->positions(), sim->velocities(),
-                                                books_of(*sim), energy_test.e0()));
+                                                books_of(*sim), energy_test.e0(), &meter));
     m.stable = stable;
     // a NaN energy error sticks (std::max would drop it and let the gate pass)
     if (stable && !std::isnan(run.max_energy_error) &&
@@ -267,14 +269,20 @@ double final_divergence(const RunResult& result, size_t i) {
 }
 
 double final_drape_coefficient(const RunResult& result, const EngineRun& run) {
+  const cloth::Model& model = result.model;
+  // flat in x-z at rest: a grid in the xz plane, or a mesh whose vertices share one height
+  const bool horizontal = model.x0.row(1).maxCoeff() - model.x0.row(1).minCoeff() <= 0.0;
+  // the held disks: a grid's disk, or a ball around a point of a horizontal cloth's plane
   std::vector<double> disks;
-  for (const ConstraintSpec& c : result.scenario.constraints)
+  for (const ConstraintSpec& c : result.scenario.constraints) {
     if (c.select == "disk") disks.push_back(c.disk_radius);
-  const cloth::ClothParams& c = result.scenario.scene.cloth;
+    if (c.select == "within" && horizontal && c.center.y() == model.x0(1, 0))
+      disks.push_back(c.disk_radius);
+  }
   const cloth::Scene& scene = result.scenario.scene;
-  const double support =
-      support_area(disks, scene.spheres, c.plane == cloth::Plane::xz, scene.shapes.cylinders);
-  const double cloth_area = c.size_u * c.size_v;
+  const double support = support_area(disks, scene.spheres, horizontal, scene.shapes.cylinders);
+  const double cloth_area = scene.mesh ? cloth::mesh_area(*scene.mesh)
+                                       : scene.cloth.size_u * scene.cloth.size_v;
   if (support <= 0 || cloth_area <= support || run.frames.empty())
     return std::numeric_limits<double>::quiet_NaN();
   return drape_coefficient(run.frames.back().shadow_area, support, cloth_area);
@@ -320,6 +328,12 @@ void write_frames(const RunResult& result, CsvWriter& frames) {
             .add(m.contact_force.x())
             .add(m.contact_force.y())
             .add(m.contact_force.z());
+      frames.add(m.max_stretch).add(m.max_compression);
+      // a state that is not finite has no self-intersection count
+      if (m.self_intersections < 0)
+        frames.skip().skip();
+      else
+        frames.add(m.self_intersections).add(m.min_self_distance);
       frames.end_row();
     }
 }

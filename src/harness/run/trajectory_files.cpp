@@ -6,6 +6,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include "harness/run/metrics.hpp"
+
 namespace clothbench {
 
 std::string npy_float32(const std::vector<size_t>& shape, const std::vector<float>& values) {
@@ -105,9 +107,11 @@ std::vector<float> collider_values(const Scenario& sc, const Grid& g) {
   return v;
 }
 
-/// The spring offsets (di, dj) of the kinds the cloth has, for the player's strain colour.
-std::string springs_json(const cloth::ClothParams& c) {
+/// The spring offsets (di, dj) of the kinds the cloth has, for the player's strain colour; a
+/// mesh has none (its edges say it).
+std::string springs_json(const cloth::ClothParams& c, bool mesh) {
   std::string s;
+  if (mesh) return "[]";
   auto add = [&](const char* offsets) { s += std::string(s.empty() ? "" : ", ") + offsets; };
   if (c.k_structural > 0) add("[1, 0], [0, 1]");
   if (c.k_shear > 0) add("[1, 1], [1, -1]");
@@ -115,17 +119,67 @@ std::string springs_json(const cloth::ClothParams& c) {
   return "[" + s + "]";
 }
 
+/// A mesh's structural springs as a JSON array of [a, b, rest length (m)], for the player's
+/// strain colour; null for a grid (its spring offsets say it).
+std::string edges_json(const cloth::Model& model) {
+  if (!model.is_mesh) return "null";
+  std::string s = "[";
+  bool first = true;
+  for (const cloth::SpringLink& l : model.springs.links()) {
+    if (l.kind == cloth::SpringKind::bend) continue;
+    s += (first ? "[" : ", [") + std::to_string(l.a) + ", " + std::to_string(l.b) + ", " +
+         format_double(l.rest) + "]";
+    first = false;
+  }
+  return s + "]";
+}
+
+/// The cloth's triangles as a JSON array of [a, b, c] particle indices.
+std::string triangles_json(const cloth::Model& model) {
+  std::string s = "[";
+  for (size_t k = 0; k < model.triangles.size(); ++k) {
+    const cloth::Triangle& t = model.triangles[k];
+    s += (k ? ", [" : "[") + std::to_string(t[0]) + ", " + std::to_string(t[1]) + ", " +
+         std::to_string(t[2]) + "]";
+  }
+  return s + "]";
+}
+
+/// An engine's frames with crossings as a JSON array of [frame, [triangle, ...]]: the
+/// triangles pierced and those holding a piercing edge, at each trajectory frame that has any.
+std::string crossings_json(const EngineRun& run, const Grid& g, size_t frames,
+                           const cloth::SelfIntersectionMeter& meter) {
+  std::string s = "[";
+  std::vector<int> tris;
+  for (size_t k = 0; k < frames; ++k) {
+    const size_t logged = k * size_t(g.stride);
+    if (logged >= run.positions.size()) break;
+    // the count is known from frames.csv: only frames with crossings are measured again
+    if (logged < run.frames.size() && run.frames[logged].self_intersections == 0) continue;
+    meter.measure(run.positions[logged], &tris);
+    if (tris.empty()) continue;
+    s += std::string(s.size() > 1 ? ", [" : "[") + std::to_string(k) + ", [";
+    for (size_t i = 0; i < tris.size(); ++i) s += (i ? ", " : "") + std::to_string(tris[i]);
+    s += "]]";
+  }
+  return s + "]";
+}
+
 /// trajectory.json: what the .npy files hold.
 std::string index_json(const RunResult& result, const Grid& g,
                        const std::vector<size_t>& engine_frames) {
+  const cloth::SelfIntersectionMeter meter = self_intersection_meter(result.model);
   const Scenario& sc = result.scenario;
   const cloth::ClothParams& c = sc.scene.cloth;
   std::ostringstream o;
   o << "{\n  \"format\": 1,\n  \"interval\": " << format_double(sc.animation_interval)
-    << ",\n  \"frames\": " << g.frames << ",\n  \"grid\": [" << c.nu << ", " << c.nv
-    << "],\n  \"spacing\": [" << format_double(c.nu > 1 ? c.size_u / (c.nu - 1) : 0) << ", "
-    << format_double(c.nv > 1 ? c.size_v / (c.nv - 1) : 0)
-    << "],\n  \"springs\": " << springs_json(c) << ",\n  \"reference\": \""
+    << ",\n  \"frames\": " << g.frames << ",\n  \"particles\": " << result.model.particle_count()
+    << ",\n  \"grid\": [" << result.model.nu << ", " << result.model.nv
+    << "],\n  \"spacing\": ["
+    << format_double(!result.model.is_mesh && c.nu > 1 ? c.size_u / (c.nu - 1) : 0) << ", "
+    << format_double(!result.model.is_mesh && c.nv > 1 ? c.size_v / (c.nv - 1) : 0)
+    << "],\n  \"springs\": " << springs_json(c, result.model.is_mesh)
+    << ",\n  \"edges\": " << edges_json(result.model) << ",\n  \"reference\": \""
     << result.runs[static_cast<size_t>(result.reference)].spec.name << "\",\n  \"engines\": [";
   for (size_t i = 0; i < result.runs.size(); ++i) {
     const EngineRun& run = result.runs[i];
@@ -133,7 +187,8 @@ std::string index_json(const RunResult& result, const Grid& g,
       << run.spec.name << ".npy\", \"frames\": " << engine_frames[i]
       << ", \"stable\": " << (run.stable ? "true" : "false") << ", \"blowup_t\": "
       << (std::isnan(run.blowup_t) ? std::string("null") : format_double(run.blowup_t))
-      << ", \"cause\": \"" << (run.timed_out ? "timeout" : run.cause) << "\"}";
+      << ", \"cause\": \"" << (run.timed_out ? "timeout" : run.cause)
+      << "\", \"crossings\": " << crossings_json(run, g, engine_frames[i], meter) << "}";
   }
   o << "\n  ],\n  \"colliders_file\": \"colliders.npy\",\n  \"shapes\": [";
   const std::vector<ShapeEntry> shapes = shape_entries(sc.scene);
@@ -141,7 +196,7 @@ std::string index_json(const RunResult& result, const Grid& g,
   o << "\n  ],\n  \"held\": [";
   for (size_t p = 0, n = 0; p < sc.scene.held.size(); ++p)
     if (sc.scene.held[p]) o << (n++ ? ", " : "") << p;
-  o << "]\n}\n";
+  o << "],\n  \"triangles\": " << triangles_json(result.model) << "\n}\n";
   return o.str();
 }
 
@@ -154,7 +209,7 @@ void write_trajectories(const RunResult& result, const std::string& dir,
   const Grid g = trajectory_grid(sc);
   const std::string folder = dir + "/trajectory/";
   make_directories(folder);
-  const size_t particles = static_cast<size_t>(result.model.nu * result.model.nv);
+  const size_t particles = static_cast<size_t>(result.model.particle_count());
   std::vector<size_t> engine_frames;
   for (const EngineRun& run : result.runs) {
     size_t frames = 0;

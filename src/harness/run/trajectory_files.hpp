@@ -16,8 +16,9 @@ namespace clothbench {
 /// Writes dir/trajectory/<engine>.npy (float32, shape frames by #P by 3, particle p = j nu + i,
 /// frame k at t = k animation_interval, only frames before a blow-up), colliders.npy (float32,
 /// frames by #shapes by 3: each shape's position) and trajectory.json, each into an AtomicFile
-/// appended to pending (the caller commits them, the index last). Nothing when
-/// animation_interval is 0.
+/// appended to pending (the caller commits them, the index last). The index also lists the
+/// cloth's triangles and, per engine, the trajectory frames where the cloth crosses itself
+/// with the triangles involved. Nothing when animation_interval is 0.
 void write_trajectories(const RunResult& result, const std::string& dir,
                         std::vector<std::unique_ptr<AtomicFile>>& pending);
 

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "cloth/model/mesh_generator.hpp"
 #include "cloth/model/scene.hpp"
 #include "cloth/solvers/solver_options.hpp"
 #include "harness/scenario/engine_kind.hpp"
@@ -13,15 +14,21 @@
 
 namespace clothbench {
 
-/// Which particles a constraint holds.
+/// Which particles a constraint holds. A grid selects corners, edges, a disk, (i, j) indices,
+/// a ball (within) or a box; a mesh a named vertex group, vertex indices, a ball or a box.
 struct ConstraintSpec {
-  std::string select =
-      "corners";  // corners | edge:u0 | edge:u1 | edge:v0 | edge:v1 | disk | indices
+  std::string select = "corners";  // corners | edge:u0 | edge:u1 | edge:v0 | edge:v1 | disk |
+                                   // indices | group | within | box
   std::uint8_t hold = cloth::kHoldAll;       // held axes (cloth::AxisBits)
   double disk_center_x = 0.0;                // m, select = "disk": centre in the cloth plane's
   double disk_center_z = 0.0;                // m   first and second world axes (x, z) or (x, y)
-  double disk_radius = 0.0;                  // m
-  std::vector<std::pair<int, int>> indices;  // select = "indices": (i, j) pairs
+  double disk_radius = 0.0;                  // m, select = "disk" or "within"
+  std::vector<std::pair<int, int>> indices;  // select = "indices" on a grid: (i, j) pairs
+  std::vector<int> vertices;                 // select = "indices" on a mesh: 0-based, file order
+  std::string group;                         // select = "group": the mesh's group name
+  cloth::Vector3 center = cloth::Vector3::Zero();   // m, select = "within": the ball's centre
+  cloth::Vector3 box_min = cloth::Vector3::Zero();  // m, select = "box": lower corner
+  cloth::Vector3 box_max = cloth::Vector3::Zero();  // m, select = "box": upper corner
 };
 
 /// A handle: the particles a selection picks, moved along a motion.
@@ -55,6 +62,8 @@ struct Scenario {
                                      // run's EnergyScale (see metrics.hpp)
   std::string reference;             // engine the others are compared against ("" = the first)
   cloth::Scene scene;                // scene.held is filled from constraints
+  MeshSource mesh;                   // where scene.mesh came from
+  std::vector<std::string> warnings;  // what loading noticed but accepted (an unused vertex)
   std::vector<ConstraintSpec> constraints;
   std::vector<HandleSpec> handles;  // scene.handles is filled from these
   std::vector<EngineSpec> engines;
@@ -65,9 +74,21 @@ struct Scenario {
   int reference_index() const;
 };
 
-/// Held-axis mask (#P entries) of the constraints on the cloth of scene.
-/// Throws std::invalid_argument for a selection outside the grid.
-std::vector<std::uint8_t> held_mask(const cloth::ClothParams& cloth,
+/// Held-axis mask (#P entries) of the constraints on the cloth of scene (its grid or mesh;
+/// within and box test rest positions).
+/// Throws std::invalid_argument for a selection outside the grid or the mesh.
+std::vector<std::uint8_t> held_mask(const cloth::Scene& scene,
                                     const std::vector<ConstraintSpec>& constraints);
+
+/// Where a mesh cloth comes from: an OBJ file (cloth.mesh) or a generated shape
+/// ([cloth.generate]); neither for a grid.
+struct MeshSource {
+  std::string file;        // cloth.mesh as written in the scenario
+  std::string path;        // the file's path, resolved against the scenario's folder
+  bool generated = false;  // [cloth.generate]
+  cloth::ShapeSpec shape;  // what [cloth.generate] asks for
+
+  bool any() const { return generated || !file.empty(); }
+};
 
 }  // namespace clothbench

@@ -30,10 +30,13 @@ const Keys kTopKeys = {"name",
                        "capsule",
                        "cylinder",
                        "handle"};
-const Keys kClothKeys = {"particles",  "size",      "center",  "plane",   "particle_mass",
-                         "total_mass", "stiffness", "damping", "air_drag"};
+const Keys kClothKeys = {"particles", "size",          "center",    "plane",   "particle_mass",
+                         "total_mass", "areal_density", "stiffness", "damping", "air_drag",
+                         "mesh",      "generate"};
+const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size",  "length",
+                            "edge_length", "seed",   "center",       "plane"};
 const Keys kStiffnessKeys = {"structural", "shear", "bend"};
-const Keys kConstraintKeys = {"select", "hold", "center", "radius", "list"};
+const Keys kConstraintKeys = {"select", "hold", "center", "radius", "list", "name", "min", "max"};
 const Keys kSphereKeys = {"center",   "radius", "restitution", "friction",
                           "velocity", "margin", "path"};
 const Keys kColliderKeys = {"restitution", "friction", "margin", "velocity", "path"};
@@ -41,7 +44,7 @@ const Keys kPlaneKeys = {"point", "normal"};
 const Keys kBoxKeys = {"center", "half_extents"};
 const Keys kCapsuleKeys = {"a", "b", "radius"};
 const Keys kCylinderKeys = {"center", "radius", "height"};
-const Keys kHandleKeys = {"select", "center", "radius", "list", "path"};
+const Keys kHandleKeys = {"select", "center", "radius", "list", "name", "min", "max", "path"};
 const Keys kEngineCommonKeys = {"name", "kind", "dt"};
 
 namespace {
@@ -58,7 +61,9 @@ Keys names_of(const std::vector<Value>& values, Name name) {
 
 const Keys kPlanes =
     names_of(std::vector<cloth::Plane>{cloth::Plane::xz, cloth::Plane::xy}, plane_name);
-const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1", "disk", "indices"};
+const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1", "disk",
+                          "indices", "group",   "within",  "box"};
+const Keys kShapes = names_of(cloth::all_mesh_shapes(), cloth::mesh_shape_name);
 const Keys kSoftbodyStiffness =
     names_of(reference::all_softbody_stiffnesses(), reference::softbody_stiffness_name);
 const Keys kNewtonMethods = names_of(cloth::all_newton_methods(), cloth::newton_method_name);
@@ -74,6 +79,26 @@ std::optional<cloth::Plane> parse_plane(std::string_view name) {
   for (cloth::Plane p : {cloth::Plane::xz, cloth::Plane::xy})
     if (name == plane_name(p)) return p;
   return std::nullopt;
+}
+
+std::optional<cloth::MeshShape> parse_shape(std::string_view name) {
+  for (cloth::MeshShape s : cloth::all_mesh_shapes())
+    if (name == cloth::mesh_shape_name(s)) return s;
+  return std::nullopt;
+}
+
+Keys shape_keys(cloth::MeshShape shape) {
+  switch (shape) {
+    case cloth::MeshShape::disk:
+      return {"radius"};
+    case cloth::MeshShape::annulus:
+      return {"radius", "inner_radius"};
+    case cloth::MeshShape::rectangle:
+      return {"size"};
+    case cloth::MeshShape::tube:
+      return {"radius", "length"};
+  }
+  return {};
 }
 
 const char* contact_mode_name(bool in_solve) {

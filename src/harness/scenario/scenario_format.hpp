@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cloth/model/integrator.hpp"
+#include "cloth/model/mesh_generator.hpp"
 #include "cloth/model/scene.hpp"
 #include "harness/scenario/engine_kind.hpp"
 
@@ -22,6 +23,7 @@ using Keys = std::vector<std::string_view>;
 extern const Keys kTopKeys;
 extern const Keys kClothKeys;
 extern const Keys kStiffnessKeys;
+extern const Keys kGenerateKeys;  // [cloth.generate]
 extern const Keys kConstraintKeys;
 extern const Keys kSphereKeys;
 extern const Keys kColliderKeys;  // keys every [[plane]], [[box]], [[capsule]], [[cylinder]] has
@@ -37,6 +39,7 @@ extern const Keys kEngineCommonKeys;  // keys every [[engine]] may have
 // selections), and listed from there
 extern const Keys kPlanes;
 extern const Keys kSelections;
+extern const Keys kShapes;  // [cloth.generate] shape
 extern const Keys kSoftbodyStiffness;
 extern const Keys kNewtonMethods;
 extern const Keys kLinearSolvers;
@@ -47,6 +50,10 @@ extern const Keys kContactModes;
 const char* plane_name(cloth::Plane p);
 /// The plane with that name, if any.
 std::optional<cloth::Plane> parse_plane(std::string_view name);
+/// The shape with that name, if any.
+std::optional<cloth::MeshShape> parse_shape(std::string_view name);
+/// The size keys [cloth.generate] needs for a shape (radius, inner_radius, size, length).
+Keys shape_keys(cloth::MeshShape shape);
 /// The contacts key's spelling of SolverOptions::contacts_in_solve: "in-solve" or "after-step".
 const char* contact_mode_name(bool in_solve);
 

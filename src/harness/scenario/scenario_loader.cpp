@@ -12,9 +12,11 @@
 #include <map>
 #include <sstream>
 
+#include "harness/scenario/cloth_reader.hpp"
 #include "harness/scenario/embedded_seed_scenario.hpp"
 #include "harness/scenario/engine_refusal.hpp"
 #include "harness/scenario/scenario_overrides.hpp"
+#include "harness/scenario/selection_reader.hpp"
 #include "harness/scenario/toml_reader.hpp"
 
 namespace clothbench {
@@ -22,127 +24,6 @@ namespace clothbench {
 namespace {
 
 // ---- reading a toml::table into a Scenario, with located errors
-
-cloth::ClothParams read_cloth(const Reader& r, const toml::table* table) {
-  cloth::ClothParams c;
-  if (!table) return c;
-  const At at{*table, "cloth"};
-  r.check_keys(at, kClothKeys);
-
-  // grid
-  if (const toml::node* n = table->get("particles")) {
-    const auto p = Reader::int_pair(*n, 1);
-    if (!p && Reader::has_huge_integer(*n))
-      r.fail(n, "cloth.particles",
-             "too large: at most 10000000 particles in all, got " + describe(*n));
-    if (!p) r.expected(*n, "cloth.particles", "an array of 2 integers >= 1");
-    const long long total = static_cast<long long>((*p)[0]) * (*p)[1];
-    if (total < 2) r.expected(*n, "cloth.particles", "at least 2 particles in all");
-    if (total > 10'000'000) r.expected(*n, "cloth.particles", "at most 10000000 particles in all");
-    c.nu = (*p)[0];
-    c.nv = (*p)[1];
-  }
-  const auto size = r.number_pair(at, "size", {c.size_u, c.size_v}, kSize);
-  for (int d = 0; d < 2; ++d) {
-    // springs along a direction with several particles need a length to rest at
-    const int count = d == 0 ? c.nu : c.nv;
-    if (count > 1 && !(size[d] > 0))
-      r.fail(table->get("size"), "cloth.size",
-             std::string("expected a size > 0 along ") + (d == 0 ? "u" : "v") + ", which has " +
-                 std::to_string(count) + " particles, got " + toml_double(size[d]));
-  }
-  c.size_u = size[0];
-  c.size_v = size[1];
-  c.center = r.vec3(at, "center", c.center);
-  c.plane = *parse_plane(r.choice(at, "plane", plane_name(c.plane), kPlanes));
-
-  // mass: one of the two ways of giving it
-  const toml::node* pm = table->get("particle_mass");
-  const toml::node* tm = table->get("total_mass");
-  if (pm && tm) {
-    const auto [n, key] = blame({{tm, "cloth.total_mass"}, {pm, "cloth.particle_mass"}});
-    r.fail(n, key, "expected particle_mass or total_mass, got both (give the mass one way only)");
-  }
-  c.particle_mass = r.number(at, "particle_mass", c.particle_mass, kMass);
-  c.total_mass = r.number(at, "total_mass", c.total_mass, kMass);
-
-  // a stiffness table names the spring kinds there are; an omitted kind has no springs
-  if (const toml::table* st = r.table(at, "stiffness")) {
-    const At sat{*st, "cloth.stiffness"};
-    r.check_keys(sat, kStiffnessKeys);
-    c.k_structural = r.number(sat, "structural", 0.0, kNonNegative);
-    c.k_shear = r.number(sat, "shear", 0.0, kNonNegative);
-    c.k_bend = r.number(sat, "bend", 0.0, kNonNegative);
-  }
-  c.damping = r.number(at, "damping", c.damping, kNonNegative);
-  c.air_drag = r.number(at, "air_drag", c.air_drag, kNonNegative);
-  return c;
-}
-
-ConstraintSpec read_constraint(const Reader& r, const toml::table& t, const std::string& path,
-                               const cloth::ClothParams& cloth,
-                               const Keys& keys = kConstraintKeys) {
-  const At at{t, path};
-  r.check_keys(at, keys);
-  ConstraintSpec c;
-  c.select = r.choice(at, "select", c.select, kSelections);
-  const std::string hold = r.string(at, "hold", hold_letters(c.hold));
-  c.hold = parse_hold(hold);
-  if (c.hold == 0)
-    r.fail(t.get("hold"), at.key("hold"),
-           "expected a non-empty combination of the letters x, y and z, got " + toml_string(hold));
-
-  // each selection takes its own keys
-  using KeyOwner = std::pair<const char*, const char*>;
-  for (const auto& [key, owner] :
-       {KeyOwner{"center", "disk"}, KeyOwner{"radius", "disk"}, KeyOwner{"list", "indices"}})
-    if (const toml::node* n = t.get(key); n && c.select != owner)
-      r.fail(n, at.key(key),
-             std::string("applies only to select = \"") + owner + "\", this constraint selects " +
-                 toml_string(c.select));
-
-  if (c.select == "disk") {
-    const char* axes = cloth.plane == cloth::Plane::xz ? "x, z" : "x, y";
-    if (!t.get("center"))
-      r.fail(
-          &t, at.key("center"),
-          std::string("a disk needs center = [a, b] (m, on the cloth plane's ") + axes + " axes)");
-    if (!t.get("radius")) r.fail(&t, at.key("radius"), "a disk needs radius = r (m)");
-    const auto center = r.number_pair(at, "center", {0, 0}, kAnyNumber);
-    c.disk_center_x = center[0];
-    c.disk_center_z = center[1];
-    c.disk_radius = r.number(at, "radius", 0.0, kLength);
-    const std::vector<std::uint8_t> mask = held_mask(cloth, {c});
-    if (std::none_of(mask.begin(), mask.end(), [](std::uint8_t m) { return m != 0; }))
-      r.fail(t.get("radius"), at.key("radius"),
-             "expected a disk that covers at least one particle, got radius " +
-                 toml_double(c.disk_radius) + " m around [" + toml_double(center[0]) + ", " +
-                 toml_double(center[1]) + "] (" + axes + "), which holds none");
-  }
-
-  if (c.select == "indices") {
-    const toml::node* n = t.get("list");
-    if (!n) r.fail(&t, at.key("list"), "select = \"indices\" needs list = [[i, j], ...]");
-    const toml::array* list = n->as_array();
-    if (!list || list->empty())
-      r.expected(*n, at.key("list"), "a non-empty array of [i, j] grid indices");
-    for (size_t k = 0; k < list->size(); ++k) {
-      const toml::node& e = *list->get(k);
-      const std::string key = at.key("list") + "." + std::to_string(k);
-      const auto ij = Reader::int_pair(e, std::numeric_limits<int>::min());
-      if (!ij) r.expected(e, key, "an [i, j] pair of integers");
-      const auto [i, j] = *ij;
-      if (i < 0 || i >= cloth.nu || j < 0 || j >= cloth.nv)
-        r.fail(&e, key,
-               "expected a grid index with i in 0.." + std::to_string(cloth.nu - 1) +
-                   " and j in 0.." + std::to_string(cloth.nv - 1) + " (the grid has " +
-                   std::to_string(cloth.nu) + " x " + std::to_string(cloth.nv) +
-                   " particles), got " + describe(e));
-      c.indices.emplace_back(i, j);
-    }
-  }
-  return c;
-}
 
 /// A path = [[t, dx, dy, dz], ...]: times strictly increasing from 0, no displacement at 0.
 std::vector<std::array<double, 4>> read_path(const Reader& r, const At& at) {
@@ -453,20 +334,22 @@ void read_handles(const Reader& r, const toml::table& root, Scenario& s) {
   const auto tables = r.tables({root, ""}, "handle");
   std::vector<int> owner(static_cast<size_t>(s.scene.particle_count()), -1);
   std::vector<std::vector<std::uint8_t>> held_by;  // each constraint's mask
-  for (const ConstraintSpec& c : s.constraints) held_by.push_back(held_mask(s.scene.cloth, {c}));
+  for (const ConstraintSpec& c : s.constraints) held_by.push_back(held_mask(s.scene, {c}));
   for (size_t k = 0; k < tables.size(); ++k) {
     const std::string path = "handle." + std::to_string(k);
     const At at{*tables[k], path};
     HandleSpec h;
-    h.select = read_constraint(r, *tables[k], path, s.scene.cloth, kHandleKeys);
+    h.select = read_selection(r, *tables[k], path, s.scene, kHandleKeys);
     h.motion = read_motion(r, at, false);
     cloth::Handle handle;
     handle.motion = h.motion;
-    const std::vector<std::uint8_t> mask = held_mask(s.scene.cloth, {h.select});
+    const std::vector<std::uint8_t> mask = held_mask(s.scene, {h.select});
     for (size_t p = 0; p < mask.size(); ++p) {
       if (!mask[p]) continue;
-      const std::string which = "particle (" + std::to_string(p % size_t(s.scene.cloth.nu)) + ", " +
-                                std::to_string(p / size_t(s.scene.cloth.nu)) + ")";
+      const std::string which =
+          s.scene.mesh ? "vertex " + std::to_string(p)
+                       : "particle (" + std::to_string(p % size_t(s.scene.cloth.nu)) + ", " +
+                             std::to_string(p / size_t(s.scene.cloth.nu)) + ")";
       const toml::node* blame_at = tables[k]->get("select") ? tables[k]->get("select") : tables[k];
       for (size_t c = 0; c < s.constraints.size(); ++c)
         if (held_by[c][p])
@@ -489,7 +372,7 @@ void read_handles(const Reader& r, const toml::table& root, Scenario& s) {
 void read_scene(const Reader& r, const toml::table& root, Scenario& s) {
   const At at{root, ""};
   s.scene.gravity = r.vec3(at, "gravity", s.scene.gravity, kAcceleration);
-  s.scene.cloth = read_cloth(r, r.table(at, "cloth"));
+  read_cloth(r, r.table(at, "cloth"), s);
   s.scene.wind = r.vec3(at, "wind", s.scene.wind);
   if (!s.scene.wind.isZero() && s.scene.cloth.air_drag == 0.0)
     r.fail(root.get("wind"), "wind",
@@ -497,8 +380,9 @@ void read_scene(const Reader& r, const toml::table& root, Scenario& s) {
   const auto constraints = r.tables(at, "constraint");
   for (size_t k = 0; k < constraints.size(); ++k)
     s.constraints.push_back(
-        read_constraint(r, *constraints[k], "constraint." + std::to_string(k), s.scene.cloth));
-  s.scene.held = held_mask(s.scene.cloth, s.constraints);
+        read_selection(r, *constraints[k], "constraint." + std::to_string(k), s.scene,
+                       kConstraintKeys));
+  s.scene.held = held_mask(s.scene, s.constraints);
   read_handles(r, root, s);
   s.scene.spheres = read_all<cloth::Sphere>(r, root, "sphere", read_sphere);
   s.scene.shapes.planes = read_all<cloth::HalfSpace>(r, root, "plane", read_plane);

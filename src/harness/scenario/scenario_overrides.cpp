@@ -170,10 +170,20 @@ void apply_override(toml::table& root, const std::string& text) {
       st.insert_or_assign(part[2], std::move(value));
       return;
     }
+    if (part[1] == "generate" && part.size() >= 3) {
+      // one key of the generated shape; the table must be there already
+      if (!contains(kGenerateKeys, part[2]))
+        throw unknown(part[2], kGenerateKeys, "cloth.generate");
+      if (part.size() > 3) throw not_a_table(3);
+      child_table(cloth, "generate", where).insert_or_assign(part[2], std::move(value));
+      return;
+    }
     if (part.size() > 2) throw not_a_table(2);
-    // the two ways of giving the mass replace each other
-    if (part[1] == "particle_mass") cloth.erase("total_mass");
-    if (part[1] == "total_mass") cloth.erase("particle_mass");
+    // the three ways of giving the mass replace each other
+    for (const char* mass : {"particle_mass", "total_mass", "areal_density"})
+      if (part[1] == mass)
+        for (const char* other : {"particle_mass", "total_mass", "areal_density"})
+          if (part[1] != other) cloth.erase(other);
     cloth.insert_or_assign(part[1], std::move(value));
   } else if (const std::optional<Keys> known = entry_keys(top)) {
     toml::node* list = root.get(top);

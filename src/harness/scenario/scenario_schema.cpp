@@ -132,7 +132,8 @@ void top_keys(std::vector<ScenarioKey>& out) {
   r.other("gravity", "[x, y, z]", "m/s^2", vec3(scene.gravity),
           std::string(kAcceleration.text) + " each", "gravitational acceleration");
   r.vector("wind", "m/s", scene.wind, "air velocity; needs cloth.air_drag > 0");
-  r.other("cloth", "table", "", "the default cloth", "", "the cloth grid and its material");
+  r.other("cloth", "table", "", "the default cloth", "",
+          "the cloth (a grid or a triangle mesh) and its material");
   r.other("constraint", "array of tables", "", "none", "",
           "[[constraint]]: particles held in place, on some or all axes");
   r.other("handle", "array of tables", "", "none", "",
@@ -145,6 +146,23 @@ void top_keys(std::vector<ScenarioKey>& out) {
           "[[cylinder]]: a rigid cylinder collider, axis along y");
   r.other("engine", "array of tables", "", "none", "at least one",
           "[[engine]]: an engine to run on the scene");
+}
+
+void generate_keys(std::vector<ScenarioKey>& out) {
+  const cloth::ShapeSpec g;
+  Rows r(out, "cloth.generate");
+  r.choice("shape", "none (required)", kShapes,
+           "a disk, an annulus, a rectangle of irregular triangles, or a tube along y");
+  r.number("radius", "m", "none (disk, annulus, tube)", kLength, "outer radius");
+  r.number("inner_radius", "m", "none (annulus)", kLength, "the hole's radius, below radius");
+  r.other("size", "[u, v] numbers", "m", "none (rectangle)", std::string(kLength.text) + " each",
+          "extent along the plane's two axes");
+  r.number("length", "m", "none (tube)", kLength, "the tube's length along y");
+  r.number("edge_length", "m", "none (required)", kLength, "target edge length of the triangles");
+  r.integer("seed", 1, 0, 2147483647, "the jitter's seed: the same seed gives the same mesh");
+  r.vector("center", "m", g.center, "centre of the shape");
+  r.choice("plane", quoted(plane_name(g.plane)), kPlanes,
+           "disk, annulus, rectangle: xz horizontal, xy vertical");
 }
 
 void cloth_keys(std::vector<ScenarioKey>& out) {
@@ -163,33 +181,60 @@ void cloth_keys(std::vector<ScenarioKey>& out) {
   r.number("particle_mass", "kg", c.particle_mass, kMass,
            "mass of each particle (not with total_mass)");
   r.number("total_mass", "kg", "particle_mass times the particles", kMass,
-           "mass of the whole cloth, spread evenly (not with particle_mass)");
+           "mass of the whole cloth, spread evenly (a mesh: by area); one way of giving the mass");
+  r.number("areal_density", "kg/m^2", "none", kMass,
+           "mass per area: a grid's size area or a mesh's triangles' times this; one way of "
+           "giving the mass");
+  r.other("mesh", "string", "", "none (a grid)", "an OBJ file's path",
+          "a triangle mesh instead of particles, size, center and plane; relative to the "
+          "scenario file");
+  r.other("generate", "table", "", "none (a grid)", "",
+          "[cloth.generate]: a shape the tool triangulates instead of a grid or a mesh file");
   r.other("stiffness", "table", "", "every kind at " + shortest_decimal(c.k_structural) + " N/m",
-          "", "spring constants by kind; a kind left out of the table has no springs");
+          "",
+          "spring constants by kind; a kind left out of the table has no springs. The same "
+          "constants on a mesh and on a grid are different fabrics: the springs per area differ");
   r.number("damping", "N s/m", c.damping, kNonNegative, "damper along every spring");
   r.number("air_drag", "N s/m", c.air_drag, kNonNegative,
            "viscous drag of every particle against the wind");
   Rows st(out, "cloth.stiffness");
   st.number("structural", "N/m", 0.0, kNonNegative,
-            "springs between grid neighbours along u and v (0 when the table leaves it out)");
-  st.number("shear", "N/m", 0.0, kNonNegative, "springs along the grid's diagonals");
-  st.number("bend", "N/m", 0.0, kNonNegative, "springs between particles two apart along u and v");
+            "springs between grid neighbours along u and v, or along a mesh's edges (0 when the "
+            "table leaves it out)");
+  st.number("shear", "N/m", 0.0, kNonNegative,
+            "springs along the grid's diagonals; a mesh has none (an error there)");
+  st.number("bend", "N/m", 0.0, kNonNegative,
+            "springs between particles two apart along u and v; on a mesh one across each "
+            "interior edge, joining the two vertices opposite it");
+  generate_keys(out);
 }
 
 void selection_keys(std::vector<ScenarioKey>& out, const char* table, bool hold) {
   const ConstraintSpec c;
   Rows r(out, table);
-  r.choice("select", quoted(c.select), kSelections,
-           "which particles: the four corners, one edge, a disk or a list of grid indices");
+  r.choice("select", quoted(c.select) + " (a mesh: \"group\")", kSelections,
+           "which particles: on a grid the four corners, one edge, a disk or grid indices; on a "
+           "mesh a vertex group or vertex indices; on either a ball (within) or a box of rest "
+           "positions");
   if (hold)
     r.other("hold", "string", "", quoted(hold_letters(c.hold)),
             "a non-empty combination of x, y, z", "the world axes held");
-  r.other("center", "[a, b] numbers", "m", "none (required by disk)", "any finite numbers",
-          "select = \"disk\": centre on the cloth plane's two axes (x, z or x, y)");
-  r.number("radius", "m", "none (required by disk)", kLength,
-           "select = \"disk\": radius; the disk must cover a particle");
-  r.other("list", "[[i, j], ...]", "count", "none (required by indices)", "indices on the grid",
-          "select = \"indices\": the particles' grid indices");
+  r.other("center", "[a, b] or [x, y, z] numbers", "m", "none (required by disk, within)",
+          "any finite numbers",
+          "select = \"disk\": centre on the cloth plane's two axes (x, z or x, y); select = "
+          "\"within\": the ball's centre");
+  r.number("radius", "m", "none (required by disk, within)", kLength,
+           "select = \"disk\" or \"within\": radius; it must hold a particle");
+  r.other("list", "[[i, j], ...] or [v, ...]", "count", "none (required by indices)",
+          "indices on the grid or the mesh",
+          "select = \"indices\": a grid's (i, j) indices, or a mesh's 0-based vertex indices "
+          "in file order");
+  r.other("name", "string", "", "none (required by group)", "a g or o name of the mesh's file",
+          "select = \"group\": the vertices of that group's faces");
+  r.other("min", "[x, y, z] numbers", "m", "none (required by box)", "any finite numbers",
+          "select = \"box\": the box's lower corner; rest positions inside are held");
+  r.other("max", "[x, y, z] numbers", "m", "none (required by box)", ">= min on every axis",
+          "select = \"box\": the box's upper corner");
 }
 
 void motion_keys(Rows& r, bool velocity) {

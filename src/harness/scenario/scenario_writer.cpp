@@ -1,6 +1,7 @@
 #include "harness/scenario/scenario_writer.hpp"
 
 #include <initializer_list>
+#include <filesystem>
 #include <sstream>
 
 #include "format/number_format.hpp"
@@ -69,7 +70,16 @@ void write_selection(std::ostream& o, const ConstraintSpec& k) {
   if (k.select == "disk")
     o << "center = " << vec({k.disk_center_x, k.disk_center_z}) << "  # m\n"
       << "radius = " << toml_double(k.disk_radius) << "  # m\n";
-  if (k.select == "indices") {
+  if (k.select == "within")
+    o << "center = " << vec3(k.center) << "  # m\nradius = " << toml_double(k.disk_radius)
+      << "  # m\n";
+  if (k.select == "box") o << "min = " << vec3(k.box_min) << "  # m\nmax = " << vec3(k.box_max) << "  # m\n";
+  if (k.select == "group") o << "name = " << toml_string(k.group) << "\n";
+  if (k.select == "indices" && !k.vertices.empty()) {
+    o << "list = [";
+    for (size_t p = 0; p < k.vertices.size(); ++p) o << (p ? ", " : "") << k.vertices[p];
+    o << "]\n";
+  } else if (k.select == "indices") {
     o << "list = [";
     for (size_t p = 0; p < k.indices.size(); ++p)
       o << (p ? ", " : "") << "[" << k.indices[p].first << ", " << k.indices[p].second << "]";
@@ -111,6 +121,46 @@ void write_colliders(std::ostream& o, const Scenario& s) {
   }
 }
 
+/// [cloth]: the grid, or the mesh (its file's resolved path, or the [cloth.generate] table).
+void write_cloth(std::ostream& o, const Scenario& s) {
+  const auto d = [](double x) { return toml_double(x); };
+  const cloth::ClothParams& c = s.scene.cloth;
+  o << "\n[cloth]\n";
+  if (!s.mesh.file.empty()) {
+    o << "mesh = " << toml_string(std::filesystem::absolute(s.mesh.path).lexically_normal().string())
+      << "\n";
+  } else if (!s.mesh.generated) {
+    o << "particles = [" << c.nu << ", " << c.nv << "]\n"
+      << "size = " << vec({c.size_u, c.size_v}) << "  # m\n"
+      << "center = " << vec({c.center.x(), c.center.y(), c.center.z()}) << "  # m\n"
+      << "plane = " << toml_string(plane_name(c.plane)) << "\n";
+  }
+  if (c.areal_density > 0)
+    o << "areal_density = " << d(c.areal_density) << "  # kg/m^2\n";
+  else if (c.total_mass > 0)
+    o << "total_mass = " << d(c.total_mass) << "  # kg\n";
+  else
+    o << "particle_mass = " << d(c.particle_mass) << "  # kg\n";
+  o << "stiffness = { structural = " << d(c.k_structural);
+  if (!s.mesh.any()) o << ", shear = " << d(c.k_shear);
+  o << ", bend = " << d(c.k_bend) << " }  # N/m\n"
+    << "damping = " << d(c.damping) << "  # N s/m\n"
+    << "air_drag = " << d(c.air_drag) << "  # N s/m\n";
+  if (!s.mesh.generated) return;
+  const cloth::ShapeSpec& g = s.mesh.shape;
+  o << "\n[cloth.generate]\nshape = " << toml_string(cloth::mesh_shape_name(g.shape)) << "\n";
+  for (std::string_view key : shape_keys(g.shape)) {
+    if (key == "radius") o << "radius = " << d(g.radius) << "  # m\n";
+    if (key == "inner_radius") o << "inner_radius = " << d(g.inner_radius) << "  # m\n";
+    if (key == "size") o << "size = " << vec({g.size_u, g.size_v}) << "  # m\n";
+    if (key == "length") o << "length = " << d(g.length) << "  # m\n";
+  }
+  o << "edge_length = " << d(g.edge_length) << "  # m\n"
+    << "seed = " << g.seed << "\n"
+    << "center = " << vec3(g.center) << "  # m\n"
+    << "plane = " << toml_string(plane_name(g.plane)) << "\n";
+}
+
 }  // namespace
 
 std::string scenario_to_toml(const Scenario& s) {
@@ -132,20 +182,7 @@ std::string scenario_to_toml(const Scenario& s) {
   o << "gravity = " << vec({g.x(), g.y(), g.z()}) << "  # m/s^2\n"
     << "wind = " << vec3(s.scene.wind) << "  # m/s\n";
 
-  const cloth::ClothParams& c = s.scene.cloth;
-  o << "\n[cloth]\n"
-    << "particles = [" << c.nu << ", " << c.nv << "]\n"
-    << "size = " << vec({c.size_u, c.size_v}) << "  # m\n"
-    << "center = " << vec({c.center.x(), c.center.y(), c.center.z()}) << "  # m\n"
-    << "plane = " << toml_string(plane_name(c.plane)) << "\n";
-  if (c.total_mass > 0)
-    o << "total_mass = " << d(c.total_mass) << "  # kg\n";
-  else
-    o << "particle_mass = " << d(c.particle_mass) << "  # kg\n";
-  o << "stiffness = { structural = " << d(c.k_structural) << ", shear = " << d(c.k_shear)
-    << ", bend = " << d(c.k_bend) << " }  # N/m\n"
-    << "damping = " << d(c.damping) << "  # N s/m\n"
-    << "air_drag = " << d(c.air_drag) << "  # N s/m\n";
+  write_cloth(o, s);
 
   for (const ConstraintSpec& k : s.constraints) {
     o << "\n[[constraint]]\n";

@@ -59,6 +59,11 @@ void check_options(const Scenario& sc, const AccuracyOptions& o) {
   for (int r : o.resolutions)
     if (r < 2)
       throw UserError("--resolutions: expected grids of at least 2 x 2, got " + std::to_string(r));
+  if (!o.resolutions.empty() && sc.scene.mesh)
+    throw UserError("--resolutions: " + sc.source +
+                    "'s cloth is a triangle mesh, and --resolutions sets a grid's particles; "
+                    "compare a generated shape's resolutions with clothbench map --vary "
+                    "cloth.generate.edge_length=...");
   for (size_t k = 0; k < sc.constraints.size(); ++k)
     if (!o.resolutions.empty() && sc.constraints[k].select == "indices")
       throw UserError(
@@ -125,6 +130,7 @@ const EngineSpec* reference_base(const Scenario& sc) {
 
 double total_mass(const Scenario& sc) {
   const cloth::ClothParams& cp = sc.scene.cloth;
+  if (cp.areal_density > 0) return cp.areal_density * cp.size_u * cp.size_v;
   return cp.total_mass > 0 ? cp.total_mass : cp.particle_mass * cp.nu * cp.nv;
 }
 

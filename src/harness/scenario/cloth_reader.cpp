@@ -1,0 +1,183 @@
+#include "harness/scenario/cloth_reader.hpp"
+
+#include <filesystem>
+#include <memory>
+
+#include "cloth/model/mesh_generator.hpp"
+#include "cloth/model/triangle_mesh.hpp"
+#include "harness/scenario/obj_reader.hpp"
+
+namespace clothbench {
+
+namespace {
+
+// the keys only a grid has, and what a mesh's cloth says instead
+const Keys kGridOnlyKeys = {"particles", "size", "center", "plane"};
+
+/// cloth.particles and cloth.size.
+void read_grid_shape(const Reader& r, const At& at, cloth::ClothParams& c) {
+  const toml::table& table = at.table;
+  if (const toml::node* n = table.get("particles")) {
+    const auto p = Reader::int_pair(*n, 1);
+    if (!p && Reader::has_huge_integer(*n))
+      r.fail(n, "cloth.particles",
+             "too large: at most 10000000 particles in all, got " + describe(*n));
+    if (!p) r.expected(*n, "cloth.particles", "an array of 2 integers >= 1");
+    const long long total = static_cast<long long>((*p)[0]) * (*p)[1];
+    if (total < 2) r.expected(*n, "cloth.particles", "at least 2 particles in all");
+    if (total > 10'000'000) r.expected(*n, "cloth.particles", "at most 10000000 particles in all");
+    c.nu = (*p)[0];
+    c.nv = (*p)[1];
+  }
+  const auto size = r.number_pair(at, "size", {c.size_u, c.size_v}, kSize);
+  for (int d = 0; d < 2; ++d) {
+    // springs along a direction with several particles need a length to rest at
+    const int count = d == 0 ? c.nu : c.nv;
+    if (count > 1 && !(size[d] > 0))
+      r.fail(table.get("size"), "cloth.size",
+             std::string("expected a size > 0 along ") + (d == 0 ? "u" : "v") + ", which has " +
+                 std::to_string(count) + " particles, got " + toml_double(size[d]));
+  }
+  c.size_u = size[0];
+  c.size_v = size[1];
+  c.center = r.vec3(at, "center", c.center);
+  c.plane = *parse_plane(r.choice(at, "plane", plane_name(c.plane), kPlanes));
+}
+
+/// The mass, given one way only: particle_mass, total_mass or areal_density (a mesh: one of
+/// the last two).
+void read_mass(const Reader& r, const At& at, bool mesh, cloth::ClothParams& c) {
+  const toml::node* pm = at.table.get("particle_mass");
+  const toml::node* tm = at.table.get("total_mass");
+  const toml::node* ad = at.table.get("areal_density");
+  if ((pm != nullptr) + (tm != nullptr) + (ad != nullptr) > 1) {
+    const auto [n, key] = blame({{ad, "cloth.areal_density"},
+                                 {tm, "cloth.total_mass"},
+                                 {pm, "cloth.particle_mass"}});
+    r.fail(n, key,
+           "expected one of particle_mass, total_mass and areal_density, got more (give the "
+           "mass one way only)");
+  }
+  if (mesh && pm)
+    r.fail(pm, "cloth.particle_mass",
+           "a mesh's vertices weigh what their share of its area does: give areal_density "
+           "(kg/m^2) or total_mass (kg) instead");
+  if (mesh && !tm && !ad)
+    r.fail(&at.table, "cloth.areal_density",
+           "a mesh needs its mass: areal_density = kg/m^2 or total_mass = kg");
+  c.particle_mass = r.number(at, "particle_mass", c.particle_mass, kMass);
+  c.total_mass = r.number(at, "total_mass", c.total_mass, kMass);
+  c.areal_density = r.number(at, "areal_density", c.areal_density, kMass);
+}
+
+/// cloth.stiffness, cloth.damping and cloth.air_drag; a mesh has no shear springs.
+void read_material(const Reader& r, const At& at, bool mesh, cloth::ClothParams& c) {
+  // a stiffness table names the spring kinds there are; an omitted kind has no springs
+  if (const toml::table* st = r.table(at, "stiffness")) {
+    const At sat{*st, "cloth.stiffness"};
+    r.check_keys(sat, kStiffnessKeys);
+    if (mesh && st->get("shear"))
+      r.fail(st->get("shear"), "cloth.stiffness.shear",
+             "a mesh has no shear springs: one structural spring per edge and one bend spring "
+             "per interior edge; leave shear out");
+    c.k_structural = r.number(sat, "structural", 0.0, kNonNegative);
+    c.k_shear = r.number(sat, "shear", 0.0, kNonNegative);
+    c.k_bend = r.number(sat, "bend", 0.0, kNonNegative);
+  } else if (mesh) {
+    c.k_shear = 0.0;
+  }
+  c.damping = r.number(at, "damping", c.damping, kNonNegative);
+  c.air_drag = r.number(at, "air_drag", c.air_drag, kNonNegative);
+}
+
+/// [cloth.generate]: the shape and its sizes, each checked where it is read.
+cloth::ShapeSpec read_shape(const Reader& r, const toml::table& t) {
+  const At at{t, "cloth.generate"};
+  r.check_keys(at, kGenerateKeys);
+  cloth::ShapeSpec s;
+  if (!t.get("shape"))
+    r.fail(&t, "cloth.generate.shape", "expected shape = one of " + join(kShapes, "\""));
+  s.shape = *parse_shape(r.choice(at, "shape", "disk", kShapes));
+  const std::string name = cloth::mesh_shape_name(s.shape);
+  // each shape takes its own size keys
+  const Keys own = shape_keys(s.shape);
+  for (const char* key : {"radius", "inner_radius", "size", "length"})
+    if (const toml::node* n = t.get(key); n && !contains(own, key))
+      r.fail(n, at.key(key), "applies to other shapes, not to shape = " + toml_string(name));
+  for (const std::string& key : own)
+    if (!t.get(key)) r.fail(&t, at.key(key), "shape = " + toml_string(name) + " needs " + key);
+  s.radius = r.number(at, "radius", s.radius, kLength);
+  s.inner_radius = r.number(at, "inner_radius", s.inner_radius, kLength);
+  if (s.shape == cloth::MeshShape::annulus && !(s.inner_radius < s.radius))
+    r.fail(t.get("inner_radius"), at.key("inner_radius"),
+           "expected an inner radius below radius = " + toml_double(s.radius) + " m, got " +
+               toml_double(s.inner_radius));
+  const auto size = r.number_pair(at, "size", {s.size_u, s.size_v}, kLength);
+  s.size_u = size[0];
+  s.size_v = size[1];
+  s.length = r.number(at, "length", s.length, kLength);
+  if (!t.get("edge_length"))
+    r.fail(&t, at.key("edge_length"), "expected edge_length = the target edge length (m)");
+  s.edge_length = r.number(at, "edge_length", s.edge_length, kLength);
+  s.seed = static_cast<std::uint64_t>(r.integer(at, "seed", 1, 0));
+  s.center = r.vec3(at, "center", s.center);
+  s.plane = *parse_plane(r.choice(at, "plane", plane_name(s.plane), kPlanes));
+  return s;
+}
+
+/// The mesh cloth.mesh names, resolved against the scenario file's folder.
+std::shared_ptr<const cloth::TriangleMesh> read_mesh_file(const Reader& r, const At& at,
+                                                          Scenario& s) {
+  s.mesh.file = r.string(at, "mesh", "");
+  if (s.mesh.file.empty()) r.expected(*at.table.get("mesh"), "cloth.mesh", "an OBJ file's path");
+  namespace fs = std::filesystem;
+  const fs::path file(s.mesh.file);
+  const fs::path base = fs::path(s.source).parent_path();
+  s.mesh.path = (file.is_absolute() || base.empty() ? file : base / file).lexically_normal().string();
+  ObjFile obj = read_obj(s.mesh.path);
+  for (std::string& w : obj.warnings) s.warnings.push_back(std::move(w));
+  return std::make_shared<const cloth::TriangleMesh>(std::move(obj.mesh));
+}
+
+/// A generated shape, whose size limit is the OBJ reader's.
+std::shared_ptr<const cloth::TriangleMesh> generate(const Reader& r, const toml::table& t,
+                                                    Scenario& s) {
+  s.mesh.generated = true;
+  s.mesh.shape = read_shape(r, t);
+  try {
+    return std::make_shared<const cloth::TriangleMesh>(cloth::generate_mesh(s.mesh.shape));
+  } catch (const std::invalid_argument& e) {
+    r.fail(&t, "cloth.generate", e.what());
+  }
+}
+
+}  // namespace
+
+void read_cloth(const Reader& r, const toml::table* table, Scenario& s) {
+  cloth::ClothParams& c = s.scene.cloth;
+  c = cloth::ClothParams{};
+  if (!table) return;
+  const At at{*table, "cloth"};
+  r.check_keys(at, kClothKeys);
+  const toml::node* mesh = table->get("mesh");
+  const toml::node* gen = table->get("generate");
+  if (mesh && gen)
+    r.fail(gen, "cloth.generate",
+           "expected mesh = \"file.obj\" or a [cloth.generate] table, got both");
+  if (mesh || gen) {
+    // a mesh's vertices stand where its file (or its shape's centre and plane) puts them
+    for (const std::string& key : kGridOnlyKeys)
+      if (const toml::node* n = table->get(key))
+        r.fail(n, at.key(key),
+               std::string("applies to a grid, not to a mesh cloth (") +
+                   (mesh ? "the vertices stand where the OBJ file puts them" :
+                           "give center and plane in [cloth.generate]") + ")");
+    s.scene.mesh = mesh ? read_mesh_file(r, at, s) : generate(r, *r.table(at, "generate"), s);
+  } else {
+    read_grid_shape(r, at, c);
+  }
+  read_mass(r, at, s.scene.mesh != nullptr, c);
+  read_material(r, at, s.scene.mesh != nullptr, c);
+}
+
+}  // namespace clothbench
