@@ -142,6 +142,13 @@ class Folder:
         grid[i, j, 2] = rows["z"]
         return grid
 
+    def mesh_faces(self):
+        """A mesh cloth's triangles as an int array (faces, 3) of snapshot indices i (mesh.obj,
+        which a run writes beside a mesh's CSVs), or None for a grid. Read once."""
+        if not hasattr(self, "_faces"):
+            self._faces = _read_obj_faces(os.path.join(self.path, "mesh.obj"))
+        return self._faces
+
     def grid_shape(self):
         """(nu, nv) of the cloth: from the scenario, else from the largest indices."""
         snaps = self.table("snapshots.csv")
@@ -169,6 +176,21 @@ class Folder:
                 t = self.tables[name]["t"]
                 if np.any(~np.isfinite(t)):
                     raise ReportError(f"{self.tables[name].path}: column 't' has a non-finite time")
+
+
+def _read_obj_faces(path):
+    """The f lines of an OBJ file as 0-based (faces, 3) indices, None when there is no file."""
+    if not os.path.exists(path):
+        return None
+    faces = []
+    try:
+        with open(path, encoding="utf-8") as f:
+            for n, line in enumerate(f, 1):
+                if line.startswith("f "):
+                    faces.append([int(w.split("/")[0]) - 1 for w in line.split()[1:4]])
+    except (OSError, UnicodeDecodeError, ValueError) as e:
+        raise ReportError(f"{path}: cannot read the mesh's triangles: {e}") from None
+    return np.array(faces, dtype=np.int64).reshape(-1, 3)
 
 
 def _read_toml(path):

@@ -94,7 +94,12 @@ def _draw_panel(ax, panel, t, box, colors):
     if len(x):
         g = x[min(ke, len(x) - 1)].reshape(nv, nu, 3)
         color = "0.6" if gone else colors[e["name"]]
-        if min(nu, nv) > 1:
+        if tr.index.get("edges"):
+            # a mesh: its triangles
+            p = g.reshape(-1, 3)
+            ax.plot_trisurf(p[:, 0], p[:, 2], p[:, 1], triangles=tr.triangles(), color=color,
+                            edgecolor="k", linewidth=0.1, shade=True, zorder=2)
+        elif min(nu, nv) > 1:
             ax.plot_surface(g[..., 0], g[..., 2], g[..., 1], color=color, edgecolor="k",
                             linewidth=0.1, shade=True, zorder=2)
         else:

@@ -178,6 +178,17 @@ def _cell_axes(fig, shape, k, box):
     return ax
 
 
+def _draw_mesh(ax, p, faces, engine, colour, d, state):
+    """A mesh cloth's triangles: the engine's colour, or each face coloured by the mean distance
+    (mm) of its corners from the reference when d (particles by 1) is given."""
+    colors, norm, cmap = colour
+    surf = ax.plot_trisurf(p[:, 0], p[:, 2], p[:, 1], triangles=faces,
+                           color=colors[engine] if not state else "0.6", edgecolor="black",
+                           linewidth=0.15, alpha=0.9 if d is None else 1.0, shade=d is None)
+    if d is not None:
+        surf.set_facecolor(cmap(norm(d.reshape(-1)[faces].mean(axis=1))))
+
+
 def _draw_cloth(ax, f, engine, t, box, colour):
     """Engine's cloth at snapshot time t (s) with the colliders; returns " — blown up" when it
     had blown up by then, else "".
@@ -192,7 +203,11 @@ def _draw_cloth(ax, f, engine, t, box, colour):
     state = ""
     if blow is not None and (np.isnan(blow) or t >= blow - 1e-12):
         state = " — blown up"
-    if ok and min(g.shape[:2]) < 2:
+    faces = f.mesh_faces()
+    if ok and faces is not None:
+        _draw_mesh(ax, g.reshape(-1, 3), faces, engine, colour,
+                   distance_mm(f, engine, t) if not state else None, state)
+    elif ok and min(g.shape[:2]) < 2:
         # a 1 by N grid (a chain) has no surface: its particles joined by a line
         ax.plot(g[:, :, 0].ravel(), g[:, :, 2].ravel(), g[:, :, 1].ravel(),
                 color=colors[engine], lw=2, marker="o", ms=3.5, mec="black",

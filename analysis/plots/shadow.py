@@ -27,49 +27,59 @@ def axes_of(folder):
     return [k for k in range(3) if k != down]
 
 
-def shadow_mask(grid, ab, gx, gy):
-    """Boolean raster (len(gx) by len(gy)): inside the union of the projected grid triangles."""
-    nu, nv, _ = grid.shape
-    p = grid[:, :, ab]
+def corners(grid, faces=None):
+    """(triangles, 3, 3) corner positions: a mesh's faces (grid is its n by 1 by 3 snapshot),
+    else the nu by nv by 3 grid's two triangles per cell, split along the (i, j)-(i+1, j+1)
+    diagonal. Empty for a 1 by N grid (a chain)."""
+    if faces is not None:
+        return grid.reshape(-1, 3)[faces]
+    a, b, c, d = grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:], grid[:-1, 1:]
+    return np.concatenate([np.stack(t, axis=-2).reshape(-1, 3, 3) for t in ((a, b, c), (a, c, d))])
+
+
+def shadow_mask(grid, ab, gx, gy, faces=None):
+    """Boolean raster (len(gx) by len(gy)): inside the union of the projected triangles (a
+    mesh's faces, or the grid's cells split in two)."""
     px, py = np.meshgrid(gx, gy, indexing="ij")
     inside = np.zeros(px.shape, dtype=bool)
-    for i in range(nu - 1):
-        for j in range(nv - 1):
-            for tri in ((p[i, j], p[i + 1, j], p[i + 1, j + 1]),
-                        (p[i, j], p[i + 1, j + 1], p[i, j + 1])):
-                (x1, y1), (x2, y2), (x3, y3) = tri
-                det = (y2 - y3) * (x1 - x3) + (x3 - x2) * (y1 - y3)
-                if abs(det) < 1e-15:
-                    continue
-                # only test the raster cells inside the triangle's bounding box
-                i0, i1 = np.searchsorted(gx, [min(x1, x2, x3), max(x1, x2, x3)])
-                j0, j1 = np.searchsorted(gy, [min(y1, y2, y3), max(y1, y2, y3)])
-                sx, sy = px[i0:i1 + 1, j0:j1 + 1], py[i0:i1 + 1, j0:j1 + 1]
-                l1 = ((y2 - y3) * (sx - x3) + (x3 - x2) * (sy - y3)) / det
-                l2 = ((y3 - y1) * (sx - x3) + (x1 - x3) * (sy - y3)) / det
-                eps = 1e-9
-                inside[i0:i1 + 1, j0:j1 + 1] |= (l1 >= -eps) & (l2 >= -eps) & (l1 + l2 <= 1 + eps)
+    for tri in corners(grid, faces)[:, :, ab]:
+        (x1, y1), (x2, y2), (x3, y3) = tri
+        det = (y2 - y3) * (x1 - x3) + (x3 - x2) * (y1 - y3)
+        if abs(det) < 1e-15:
+            continue
+        # only test the raster cells inside the triangle's bounding box
+        i0, i1 = np.searchsorted(gx, [min(x1, x2, x3), max(x1, x2, x3)])
+        j0, j1 = np.searchsorted(gy, [min(y1, y2, y3), max(y1, y2, y3)])
+        sx, sy = px[i0:i1 + 1, j0:j1 + 1], py[i0:i1 + 1, j0:j1 + 1]
+        l1 = ((y2 - y3) * (sx - x3) + (x3 - x2) * (sy - y3)) / det
+        l2 = ((y3 - y1) * (sx - x3) + (x1 - x3) * (sy - y3)) / det
+        eps = 1e-9
+        inside[i0:i1 + 1, j0:j1 + 1] |= (l1 >= -eps) & (l2 >= -eps) & (l1 + l2 <= 1 + eps)
     return inside
 
 
-def triangle_areas(grid, ab=None):
-    """Areas (m²) of the 2 (nu - 1)(nv - 1) triangles of a nu by nv by 3 grid: in space, or
-    projected on the plane of the world axes ab. Empty for a 1 by N grid (a chain)."""
-    a, b, c = grid[:-1, :-1], grid[1:, :-1], grid[1:, 1:]
-    d = grid[:-1, 1:]
-    tris = [(a, b, c), (a, c, d)]
+def triangle_areas(grid, ab=None, faces=None):
+    """Areas (m²) of the cloth's triangles (see corners): in space, or projected on the plane
+    of the world axes ab. Empty for a 1 by N grid (a chain)."""
+    t = corners(grid, faces)
+    u, v = t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]
     if ab is None:
-        out = [0.5 * np.linalg.norm(np.cross(q - p, r - p), axis=-1) for p, q, r in tris]
-    else:
-        u = [((q - p)[..., ab], (r - p)[..., ab]) for p, q, r in tris]
-        out = [0.5 * np.abs(s[..., 0] * t[..., 1] - s[..., 1] * t[..., 0]) for s, t in u]
-    return np.concatenate([o.ravel() for o in out])
+        return 0.5 * np.linalg.norm(np.cross(u, v), axis=-1)
+    u, v = u[:, ab], v[:, ab]
+    return 0.5 * np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0])
 
 
-def casts_shadow(grid, ab):
-    """True when the grid's shadow on the plane of axes ab has area (it is not edge-on)."""
-    full = triangle_areas(grid).sum()
-    return full > 0 and triangle_areas(grid, ab).sum() > EDGE_ON * full
+def boundary_edges(faces):
+    """The (a, b) edges of exactly one triangle of faces (faces, 3)."""
+    e = np.sort(faces[:, [0, 1, 1, 2, 2, 0]].reshape(-1, 2), axis=1)
+    unique, count = np.unique(e, axis=0, return_counts=True)
+    return unique[count == 1]
+
+
+def casts_shadow(grid, ab, faces=None):
+    """True when the cloth's shadow on the plane of axes ab has area (it is not edge-on)."""
+    full = triangle_areas(grid, faces=faces).sum()
+    return full > 0 and triangle_areas(grid, ab, faces).sum() > EDGE_ON * full
 
 
 def skip_reason(folders):
@@ -78,12 +88,12 @@ def skip_reason(folders):
     panels = [f for f in folders if f.has("snapshots.csv")]
     shapes = [final_shapes(f) for f in panels]
     grids = [f.grid_shape() for f in panels]
-    if all(min(g) < 2 for g in grids):
+    if all(min(g) < 2 and f.mesh_faces() is None for f, g in zip(panels, grids)):
         nu, nv = grids[0]
         return (f"the cloth is a {nu} × {nv} grid, a chain of particles: it has no area, so it "
                 f"casts no shadow from above.")
     finals = [(f, g) for f, sh in zip(panels, shapes) for _, g in sh.values()]
-    if finals and not any(casts_shadow(g, axes_of(f)) for f, g in finals):
+    if finals and not any(casts_shadow(g, axes_of(f), f.mesh_faces()) for f, g in finals):
         return ("every final cloth is edge-on from above (it hangs in a plane that holds "
                 "gravity), so its shadow on the plane normal to gravity has no area.")
     return None
@@ -106,11 +116,13 @@ def disks(folder):
     out = []
     cons = folder.scenario.get("constraint", [])
     for c in cons if isinstance(cons, list) else []:
-        if isinstance(c, dict) and c.get("select") == "disk":
+        if isinstance(c, dict) and c.get("select") in ("disk", "within"):
             try:
-                center = [float(v) for v in c.get("center", [0.0, 0.0])][:2]
+                center = [float(v) for v in c.get("center", [0.0, 0.0])]
+                # a ball (within) seen from above: its centre on the x-z axes
+                center = center[:2] if c["select"] == "disk" else [center[0], center[2]]
                 out.append((tuple(center), float(c["radius"])))
-            except (KeyError, TypeError, ValueError):
+            except (KeyError, TypeError, ValueError, IndexError):
                 continue
     return out
 
@@ -167,7 +179,14 @@ def _draw_supports(ax, f, engines, ab):
     handles = []
     # the flat cloth at the first snapshot of the first engine, for scale
     g0 = f.snapshot(engines[0], f.snapshot_times(engines[0])[0])
-    if np.all(np.isfinite(g0)):
+    if np.all(np.isfinite(g0)) and f.mesh_faces() is not None:
+        # a mesh's outline: its boundary edges (those of one triangle)
+        p = g0.reshape(-1, 3)[:, ab]
+        for a, b in boundary_edges(f.mesh_faces()):
+            ax.plot(p[[a, b], 0], p[[a, b], 1], color="0.45", ls=":", lw=1.2)
+        handles.append((plt.Line2D([], [], color="0.45", ls=":"),
+                        f"cloth at t = {style.fmt(f.snapshot_times(engines[0])[0])} s"))
+    elif np.all(np.isfinite(g0)):
         outline = np.concatenate([g0[:, 0], g0[-1, :], g0[::-1, -1], g0[0, ::-1]])[:, ab]
         ax.plot(outline[:, 0], outline[:, 1], color="0.45", ls=":", lw=1.2)
         handles.append((plt.Line2D([], [], color="0.45", ls=":"),
@@ -197,7 +216,7 @@ def _draw_shadow(ax, f, e, sh, color, ab, raster):
         why = f"blew up at t = {style.fmt(blow)} s" if blow is not None else "non-finite"
         return (plt.Line2D([], [], color=color, lw=0), f"{e}: not drawn ({why})")
     t, g = sh[e]
-    mask = shadow_mask(g, ab, gx, gy).astype(float)
+    mask = shadow_mask(g, ab, gx, gy, f.mesh_faces()).astype(float)
     if np.any(mask):
         ax.contourf(gx, gy, mask.T, levels=[0.5, 1.5], colors=[color], alpha=0.22)
         ax.contour(gx, gy, mask.T, levels=[0.5], colors=[color], linewidths=1.8)
@@ -206,8 +225,8 @@ def _draw_shadow(ax, f, e, sh, color, ab, raster):
         # edge-on or a chain: the projected cloth itself, as a line
         ax.plot(g[:, :, ab[0]].ravel(), g[:, :, ab[1]].ravel(), color=color, lw=0,
                 marker=".", ms=3)
-        area = "0 m² (" + ("a chain: no area" if min(g.shape[:2]) < 2
-                           else "edge-on from above") + ")"
+        chain = min(g.shape[:2]) < 2 and f.mesh_faces() is None
+        area = "0 m² (" + ("a chain: no area" if chain else "edge-on from above") + ")"
     return (plt.Line2D([], [], color=color, lw=6, alpha=0.5),
             f"{e} (t = {style.fmt(t)} s): shadow {area}, {dc_text}")
 

@@ -17,6 +17,7 @@
 #include "harness/io/staged_folder.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/build_info.hpp"
+#include "harness/run/mesh_file.hpp"
 #include "harness/run/trajectory_files.hpp"
 #include "harness/scenario/engine_refusal.hpp"
 #include "harness/scenario/scenario_writer.hpp"
@@ -446,6 +447,11 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   info.write(run_info_json());
   std::vector<std::unique_ptr<AtomicFile>> trajectory;
   write_trajectories(result, dir, trajectory);
+  // a mesh's triangles, for the report's shapes
+  if (result.model.is_mesh) {
+    trajectory.push_back(std::make_unique<AtomicFile>(dir + "mesh.obj"));
+    trajectory.back()->write(rest_mesh_obj(result.model));
+  }
   // every file is complete: make them all appear (the trajectory index last)
   frames.commit();
   div.commit();
@@ -462,6 +468,7 @@ void write_run(const RunResult& result, const std::string& out) {
   make_directories(out);
   StagedFolder staged(out);
   staged.owns("trajectory");  // the new run's, or none: never an older run's beside new CSVs
+  staged.owns("mesh.obj");
   try {
     write_run_files(result, staged.path());
   } catch (const UserError& e) {
