@@ -42,4 +42,12 @@ constexpr double kDirectVsCgRelative = 1e-7;
 /// Strain limit of the stability tests, the seed scene's blowup_strain.
 constexpr double kBlowupStrain = 1.0;
 
+/// Sums of ~1e3 triangle areas against a closed form: round-off of a few eps per triangle.
+constexpr double kMeshAreaRelative = 1e-12;
+/// A generated vertex on a circle: its radius from a cosine and sine of our own polynomials
+/// (truncation below 1e-16) and a few roundings.
+constexpr double kOnBoundaryRelative = 8 * 2.220446049250313e-16;
+/// Mean edge length of a generated mesh against its target: the 25%.
+constexpr double kMeanEdgeLengthRelative = 0.25;
+
 }  // namespace clothbench::tol

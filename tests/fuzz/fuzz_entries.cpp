@@ -12,6 +12,7 @@
 #include "harness/gate/tolerances_file.hpp"
 #include "harness/io/csv_reader.hpp"
 #include "harness/io/user_error.hpp"
+#include "harness/scenario/obj_reader.hpp"
 #include "harness/scenario/scenario_loader.hpp"
 
 namespace clothbench::fuzz {
@@ -97,11 +98,28 @@ void tolerances_file(const std::uint8_t* data, std::size_t size) {
   }
 }
 
+void obj_text(const std::uint8_t* data, std::size_t size) {
+  try {
+    const ObjFile f = read_obj_text(text_of(data, size), "fuzz.obj");
+    // what the reader accepts is usable: indices in range, a line for everything
+    const int nv = f.mesh.vertex_count();
+    for (const auto& t : f.mesh.triangles)
+      for (int v : t)
+        if (v < 0 || v >= nv) throw std::logic_error("accepted a triangle with a bad index");
+    if (f.vertex_line.size() != static_cast<std::size_t>(nv) ||
+        f.triangle_line.size() != f.mesh.triangles.size())
+      throw std::logic_error("accepted a mesh without a line per vertex and triangle");
+    if (!f.mesh.x.allFinite()) throw std::logic_error("accepted a coordinate that is not finite");
+  } catch (const UserError&) {
+  }
+}
+
 const std::vector<std::pair<std::string, Entry>>& entries() {
   static const std::vector<std::pair<std::string, Entry>> all = {{"scenario", scenario_text},
                                                                  {"overrides", overrides},
                                                                  {"csv", csv_file},
-                                                                 {"tolerances", tolerances_file}};
+                                                                 {"tolerances", tolerances_file},
+                                                                 {"obj", obj_text}};
   return all;
 }
 

@@ -25,8 +25,12 @@ void csv_file(const std::uint8_t* data, std::size_t size);
 /// The input as a baseline's tolerances.toml.
 void tolerances_file(const std::uint8_t* data, std::size_t size);
 
+/// The input as an OBJ mesh file's text; what the reader accepts must be a usable mesh (every
+/// index in range, a line per vertex and per triangle).
+void obj_text(const std::uint8_t* data, std::size_t size);
+
 /// The entries by name, for scripts/fuzz and the replay test: "scenario", "overrides", "csv",
-/// "tolerances".
+/// "tolerances", "obj".
 using Entry = void (*)(const std::uint8_t*, std::size_t);
 const std::vector<std::pair<std::string, Entry>>& entries();
 

@@ -1,0 +1,329 @@
+#include "cloth/model/mesh_generator.hpp"
+
+// compiled with -ffp-contract=off (src/cloth/CMakeLists.txt): see the header on determinism
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <stdexcept>
+#include <vector>
+
+extern "C" {
+#include <libqhull_r/qhull_ra.h>
+}
+
+#include "cloth/model/mesh_check.hpp"
+
+namespace cloth {
+
+namespace {
+
+constexpr double kTwoPi = 6.283185307179586476925286766559;
+/// Jitter of interior points, as a fraction of the local spacing in each direction: small
+/// enough that no point leaves its cell, so none crosses the boundary or another ring.
+constexpr double kJitter = 0.15;
+
+/// splitmix64 (Steele, Lea and Flood 2014): the one source of randomness.
+struct SplitMix64 {
+  std::uint64_t state;
+  std::uint64_t next() {
+    std::uint64_t z = (state += 0x9e3779b97f4a7c15ULL);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+    return z ^ (z >> 31);
+  }
+  /// Uniform in [0, 1): the top 53 bits times 2^-53.
+  double unit() { return static_cast<double>(next() >> 11) * 0x1.0p-53; }
+  /// Uniform in [-a, a).
+  double jitter(double a) { return a * (2.0 * unit() - 1.0); }
+};
+
+/// cos and sin of the angle 2 pi turns, from Taylor polynomials (Horner's scheme, to x^15 and
+/// x^14; truncation below 1e-16) on [-pi/4, pi/4] after a reduction by whole and quarter
+/// turns: plain IEEE arithmetic, the same bits on every machine.
+void cos_sin_turns(double turns, double& c, double& s) {
+  const double t = turns - std::floor(turns);
+  const double q = std::floor(4.0 * t + 0.5);
+  const double x = (t - 0.25 * q) * kTwoPi;
+  const double x2 = x * x;
+  double sx = 1.0, cx = 1.0;
+  for (int k = 7; k >= 1; --k) {
+    sx = 1.0 - x2 / ((2 * k) * (2 * k + 1)) * sx;
+    cx = 1.0 - x2 / ((2 * k - 1) * (2 * k)) * cx;
+  }
+  sx *= x;
+  switch (static_cast<int>(q) & 3) {
+    case 0:
+      c = cx, s = sx;
+      break;
+    case 1:
+      c = -sx, s = cx;
+      break;
+    case 2:
+      c = -cx, s = -sx;
+      break;
+    default:
+      c = sx, s = -cx;
+      break;
+  }
+}
+
+/// A planar point set (u, v) with, per point, a mark: 1 on the annulus' inner ring.
+struct Points {
+  std::vector<double> u, v;
+  std::vector<char> inner;
+  void add(double pu, double pv, bool on_inner = false) {
+    u.push_back(pu);
+    v.push_back(pv);
+    inner.push_back(on_inner ? 1 : 0);
+  }
+  int size() const { return static_cast<int>(u.size()); }
+};
+
+int count_of(double length, double spacing, int at_least) {
+  return std::max(at_least, static_cast<int>(std::lround(length / spacing)));
+}
+
+/// Rings of radius r0 < ... < r1 (r0 = 0: a centre point instead of a ring), each rotated by a
+/// random phase; the first (when r0 > 0) and last ring exact, the rest jittered.
+Points rings(double r0, double r1, double h, SplitMix64& rng) {
+  Points p;
+  const int m = count_of(r1 - r0, h, 1);
+  const double dr = (r1 - r0) / m;
+  for (int k = 0; k <= m; ++k) {
+    const double r = k == m ? r1 : r0 + k * dr;
+    if (r == 0.0) {
+      p.add(rng.jitter(kJitter * dr), rng.jitter(kJitter * dr));
+      continue;
+    }
+    const bool exact = k == 0 || k == m;
+    const int n = count_of(kTwoPi * r, h, 3);
+    const double phase = rng.unit();
+    for (int i = 0; i < n; ++i) {
+      double turns = (i + phase) / n, radius = r;
+      if (!exact) {
+        turns += rng.jitter(kJitter / n);
+        radius += rng.jitter(kJitter * dr);
+      }
+      double c, s;
+      cos_sin_turns(turns, c, s);
+      p.add(radius * c, radius * s, exact && k == 0);
+    }
+  }
+  return p;
+}
+
+/// A triangular lattice on [-su/2, su/2] x [-sv/2, sv/2] (periodic in u: no points at
+/// u = su/2, no exact column at u = -su/2), rows at exact v; interior points jittered.
+Points lattice(double su, double sv, double h, bool periodic, SplitMix64& rng) {
+  Points p;
+  const int nu = count_of(su, h, 1);
+  const int nv = count_of(sv, h * std::sqrt(3.0) / 2, 1);
+  const double du = su / nu, dv = sv / nv;
+  for (int j = 0; j <= nv; ++j) {
+    const double v = j == nv ? sv / 2 : -sv / 2 + j * dv;
+    const bool edge_row = j == 0 || j == nv;
+    const double shift = j % 2 ? 0.5 : 0.0;
+    // the row's points: the two sides exact (unless periodic), the rest shifted on odd rows
+    std::vector<double> us;
+    if (!periodic && shift != 0.0) us.push_back(-su / 2);
+    for (int i = 0; i < nu + (periodic || shift != 0.0 ? 0 : 1); ++i)
+      us.push_back(!periodic && shift == 0.0 && i == nu ? su / 2 : -su / 2 + (i + shift) * du);
+    if (!periodic && shift != 0.0) us.push_back(su / 2);
+    for (std::size_t i = 0; i < us.size(); ++i) {
+      const bool side = !periodic && (i == 0 || i + 1 == us.size());
+      if (edge_row || side) {
+        p.add(us[i], v);
+      } else {
+        p.add(us[i] + rng.jitter(kJitter * du), v + rng.jitter(kJitter * dv));
+      }
+    }
+  }
+  return p;
+}
+
+/// The Delaunay triangles of the planar points (indices into p), each counter-clockwise,
+/// from Qhull's lower hull of the points lifted onto a paraboloid. Triangles of zero area
+/// (Qhull's split of a cocircular facet, only ever inside the annulus' empty hole) are left out.
+std::vector<std::array<int, 3>> delaunay(const std::vector<double>& u,
+                                         const std::vector<double>& v) {
+  const int n = static_cast<int>(u.size());
+  std::vector<coordT> points(2 * u.size());
+  for (int i = 0; i < n; ++i) points[2 * i] = u[i], points[2 * i + 1] = v[i];
+  qhT qh_storage;
+  qhT* qh = &qh_storage;
+  qh_zero(qh, stderr);
+  char options[] = "qhull d Qt Qbb Qc Qz";
+  const int exitcode = qh_new_qhull(qh, 2, n, points.data(), False, options, nullptr, stderr);
+
+  // the lower hull's triangles, turned counter-clockwise
+  std::vector<std::array<int, 3>> out;
+  if (exitcode == 0) {
+    facetT* facet;
+    vertexT *vertex, **vertexp;
+    FORALLfacets {
+      if (facet->upperdelaunay) continue;
+      std::array<int, 3> t{};
+      int k = 0;
+      FOREACHvertex_(facet->vertices) {
+        if (k < 3) t[k] = qh_pointid(qh, vertex->point);
+        ++k;
+      }
+      if (k != 3) continue;
+      const double area2 =
+          (u[t[1]] - u[t[0]]) * (v[t[2]] - v[t[0]]) - (v[t[1]] - v[t[0]]) * (u[t[2]] - u[t[0]]);
+      if (area2 == 0.0) continue;
+      if (area2 < 0.0) std::swap(t[1], t[2]);
+      out.push_back(t);
+    }
+  }
+  int curlong = 0, totlong = 0;
+  qh_freeqhull(qh, !qh_ALL);
+  qh_memfreeshort(qh, &curlong, &totlong);
+  if (exitcode != 0)
+    throw std::runtime_error("Qhull failed to triangulate (exit code " + std::to_string(exitcode) +
+                             ")");
+  return out;
+}
+
+/// Each triangle rotated to start at its smallest index (keeping its orientation), then all
+/// sorted: an order independent of the one Qhull returns.
+void canonical_order(std::vector<std::array<int, 3>>& tris) {
+  for (auto& t : tris) std::rotate(t.begin(), std::min_element(t.begin(), t.end()), t.end());
+  std::sort(tris.begin(), tris.end());
+}
+
+/// A flat shape: its points triangulated, the annulus' hole (triangles of three inner-ring
+/// points) removed, turned to face +y (xz) or +z (xy) and placed at the centre.
+TriangleMesh planar_mesh(const Points& p, const ShapeSpec& spec) {
+  std::vector<std::array<int, 3>> tris;
+  for (auto t : delaunay(p.u, p.v)) {
+    if (p.inner[t[0]] && p.inner[t[1]] && p.inner[t[2]]) continue;
+    // counter-clockwise in (u, v) faces u x v: -y in the xz plane (u along x, v along z)
+    if (spec.plane == Plane::xz) std::swap(t[1], t[2]);
+    tris.push_back(t);
+  }
+  canonical_order(tris);
+  TriangleMesh mesh;
+  mesh.x.resize(3, p.size());
+  for (int i = 0; i < p.size(); ++i) {
+    const Vector3 offset =
+        spec.plane == Plane::xz ? Vector3(p.u[i], 0.0, p.v[i]) : Vector3(p.u[i], p.v[i], 0.0);
+    mesh.x.col(i) = spec.center + offset;
+  }
+  mesh.triangles = std::move(tris);
+  return mesh;
+}
+
+/// A tube: a periodic lattice in the unrolled plane (arc s in [0, C), y), triangulated with
+/// copies of the points near the seam on both sides (shifted by -C and +C) so the Delaunay
+/// triangles across the seam are found; of each triangle and its shifted twin the one with
+/// copies on the +C side only is kept, mapped back to the original points.
+TriangleMesh tube_mesh(const ShapeSpec& spec, SplitMix64& rng) {
+  const double r = spec.radius, len = spec.length, h = spec.edge_length;
+  const double circ = kTwoPi * r;
+  Points p = lattice(circ, len, h, true, rng);
+  const int n = p.size();
+  // arc from 0, wrapped into [0, C) after the jitter
+  for (double& s : p.u) {
+    s += circ / 2;
+    if (s < 0.0) s += circ;
+    if (s >= circ) s -= circ;
+  }
+  // the extended set: originals, then copies within w of the seam, with their shifts
+  const double w = std::min(circ, 4.0 * h);
+  std::vector<double> eu = p.u, ev = p.v;
+  std::vector<int> source(n), shift(n, 0);
+  for (int i = 0; i < n; ++i) source[i] = i;
+  for (int i = 0; i < n; ++i) {
+    for (int sh : {-1, 1}) {
+      if ((sh == 1 && p.u[i] < w) || (sh == -1 && p.u[i] >= circ - w)) {
+        eu.push_back(p.u[i] + sh * circ), ev.push_back(p.v[i]);
+        source.push_back(i), shift.push_back(sh);
+      }
+    }
+  }
+  std::vector<std::array<int, 3>> tris;
+  for (const auto& t : delaunay(eu, ev)) {
+    const int lo = std::min({shift[t[0]], shift[t[1]], shift[t[2]]});
+    const int hi = std::max({shift[t[0]], shift[t[1]], shift[t[2]]});
+    if (lo != 0 || hi > 1) continue;
+    // counter-clockwise in (s, y) faces inward (ds x dy points to the axis): turn it
+    tris.push_back({source[t[0]], source[t[2]], source[t[1]]});
+  }
+  canonical_order(tris);
+  TriangleMesh mesh;
+  mesh.x.resize(3, n);
+  for (int i = 0; i < n; ++i) {
+    double c, s;
+    cos_sin_turns(p.u[i] / circ, c, s);
+    mesh.x.col(i) = spec.center + Vector3(r * c, p.v[i], r * s);
+  }
+  mesh.triangles = std::move(tris);
+  return mesh;
+}
+
+bool positive(double x) {
+  return std::isfinite(x) && x > 0.0;
+}
+
+}  // namespace
+
+std::string shape_spec_problem(const ShapeSpec& spec) {
+  const bool round = spec.shape != MeshShape::rectangle;
+  if (!positive(spec.edge_length)) return "edge_length: expected a number > 0";
+  if (!spec.center.allFinite()) return "center: expected finite numbers";
+  if (round && !positive(spec.radius)) return "radius: expected a number > 0";
+  if (spec.shape == MeshShape::annulus &&
+      !(positive(spec.inner_radius) && spec.inner_radius < spec.radius))
+    return "inner_radius: expected a number > 0 and below radius";
+  // a ring narrower than an edge would let the outer polygon's chords cut into the hole
+  if (spec.shape == MeshShape::annulus && spec.radius - spec.inner_radius < spec.edge_length)
+    return "edge_length: at most radius - inner_radius (the ring at least one edge wide)";
+  if (spec.shape == MeshShape::rectangle && !(positive(spec.size_u) && positive(spec.size_v)))
+    return "size: expected two numbers > 0";
+  if (spec.shape == MeshShape::tube && !positive(spec.length))
+    return "length: expected a number > 0";
+  if (spec.shape == MeshShape::tube && kTwoPi * spec.radius < 6.0 * spec.edge_length)
+    return "edge_length: a tube needs at least six edges around (edge_length <= 2 pi radius / 6)";
+  // the area over the area per point of a triangular lattice, h^2 sqrt(3) / 2
+  double area = spec.size_u * spec.size_v;
+  if (spec.shape == MeshShape::disk) area = kTwoPi / 2 * spec.radius * spec.radius;
+  if (spec.shape == MeshShape::annulus)
+    area = kTwoPi / 2 * (spec.radius * spec.radius - spec.inner_radius * spec.inner_radius);
+  if (spec.shape == MeshShape::tube) area = kTwoPi * spec.radius * spec.length;
+  const double h = spec.edge_length;
+  if (area / (h * h * std::sqrt(3.0) / 2) > kMaxGeneratedVertices)
+    return "edge_length: too small, the mesh would have more than " +
+           std::to_string(kMaxGeneratedVertices) + " vertices";
+  return "";
+}
+
+TriangleMesh generate_mesh(const ShapeSpec& spec) {
+  const std::string problem = shape_spec_problem(spec);
+  if (!problem.empty()) throw std::invalid_argument("generate_mesh: " + problem);
+  SplitMix64 rng{spec.seed};
+  TriangleMesh mesh;
+  const double h = spec.edge_length;
+  switch (spec.shape) {
+    case MeshShape::disk:
+      mesh = planar_mesh(rings(0.0, spec.radius, h, rng), spec);
+      break;
+    case MeshShape::annulus:
+      mesh = planar_mesh(rings(spec.inner_radius, spec.radius, h, rng), spec);
+      break;
+    case MeshShape::rectangle:
+      mesh = planar_mesh(lattice(spec.size_u, spec.size_v, h, false, rng), spec);
+      break;
+    case MeshShape::tube:
+      mesh = tube_mesh(spec, rng);
+      break;
+  }
+  // a mesh of ours that check_mesh refuses is a bug here, not the user's
+  const std::vector<MeshProblem> problems = check_mesh(mesh);
+  if (!problems.empty())
+    throw std::logic_error("generate_mesh made a bad mesh: " + problems.front().message);
+  return mesh;
+}
+
+}  // namespace cloth
