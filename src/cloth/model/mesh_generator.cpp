@@ -269,6 +269,26 @@ bool positive(double x) {
 
 }  // namespace
 
+const char* mesh_shape_name(MeshShape shape) {
+  switch (shape) {
+    case MeshShape::disk:
+      return "disk";
+    case MeshShape::annulus:
+      return "annulus";
+    case MeshShape::rectangle:
+      return "rectangle";
+    case MeshShape::tube:
+      return "tube";
+  }
+  return "?";
+}
+
+const std::vector<MeshShape>& all_mesh_shapes() {
+  static const std::vector<MeshShape> shapes = {MeshShape::disk, MeshShape::annulus,
+                                                MeshShape::rectangle, MeshShape::tube};
+  return shapes;
+}
+
 std::string shape_spec_problem(const ShapeSpec& spec) {
   const bool round = spec.shape != MeshShape::rectangle;
   if (!positive(spec.edge_length)) return "edge_length: expected a number > 0";

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "cloth/model/scene.hpp"
 #include "cloth/model/triangle_mesh.hpp"
@@ -30,6 +31,11 @@ enum class MeshShape {
   rectangle,  ///< size_u by size_v, in plane (u along x, v along z for xz or y for xy)
   tube        ///< a cylinder surface, axis along y, of radius and length, open at both ends
 };
+
+/// The shape's name in scenario files: "disk", "annulus", "rectangle", "tube".
+const char* mesh_shape_name(MeshShape shape);
+/// Every shape, in the order of the enum.
+const std::vector<MeshShape>& all_mesh_shapes();
 
 /// What generate_mesh makes.
 struct ShapeSpec {

@@ -85,16 +85,17 @@ VectorX particle_masses(const Scene& scene) {
 // one structural spring per edge, one bend spring per interior edge across its two triangles
 SpringSet mesh_springs(const ClothParams& c, const TriangleMesh& mesh) {
   const MeshEdges e = mesh_edges(mesh);
-  std::vector<SpringLink> links;
+  SpringSet set;
+  set.damping = c.damping;
   const auto add = [&](int a, int b, double k, SpringKind kind) {
-    links.push_back({std::min(a, b), std::max(a, b), (mesh.x.col(b) - mesh.x.col(a)).norm(), k,
-                     kind});
+    set.list.push_back({std::min(a, b), std::max(a, b), (mesh.x.col(b) - mesh.x.col(a)).norm(), k,
+                        kind});
   };
   if (c.k_structural > 0)
     for (const auto& [a, b] : e.edges) add(a, b, c.k_structural, SpringKind::structural);
   if (c.k_bend > 0)
     for (const auto& [a, b] : e.bend_pairs) add(a, b, c.k_bend, SpringKind::bend);
-  return general_springs(links, c.damping);
+  return set;
 }
 
 // the particles, their masses and held axes of a grid or a mesh

@@ -108,10 +108,6 @@ cloth::ShapeSpec read_shape(const Reader& r, const toml::table& t) {
     if (!t.get(key)) r.fail(&t, at.key(key), "shape = " + toml_string(name) + " needs " + key);
   s.radius = r.number(at, "radius", s.radius, kLength);
   s.inner_radius = r.number(at, "inner_radius", s.inner_radius, kLength);
-  if (s.shape == cloth::MeshShape::annulus && !(s.inner_radius < s.radius))
-    r.fail(t.get("inner_radius"), at.key("inner_radius"),
-           "expected an inner radius below radius = " + toml_double(s.radius) + " m, got " +
-               toml_double(s.inner_radius));
   const auto size = r.number_pair(at, "size", {s.size_u, s.size_v}, kLength);
   s.size_u = size[0];
   s.size_v = size[1];
@@ -134,7 +130,7 @@ std::shared_ptr<const cloth::TriangleMesh> read_mesh_file(const Reader& r, const
   const fs::path file(s.mesh.file);
   const fs::path base = fs::path(s.source).parent_path();
   s.mesh.path = (file.is_absolute() || base.empty() ? file : base / file).lexically_normal().string();
-  ObjFile obj = read_obj(s.mesh.path);
+  ObjFile obj = read_obj_file(s.mesh.path);
   for (std::string& w : obj.warnings) s.warnings.push_back(std::move(w));
   return std::make_shared<const cloth::TriangleMesh>(std::move(obj.mesh));
 }
@@ -144,11 +140,14 @@ std::shared_ptr<const cloth::TriangleMesh> generate(const Reader& r, const toml:
                                                     Scenario& s) {
   s.mesh.generated = true;
   s.mesh.shape = read_shape(r, t);
-  try {
-    return std::make_shared<const cloth::TriangleMesh>(cloth::generate_mesh(s.mesh.shape));
-  } catch (const std::invalid_argument& e) {
-    r.fail(&t, "cloth.generate", e.what());
+  // "edge_length: too small, ...": blamed on the key it names
+  const std::string problem = cloth::shape_spec_problem(s.mesh.shape);
+  if (!problem.empty()) {
+    const std::string key = problem.substr(0, problem.find(':'));
+    const toml::node* n = t.get(key);
+    r.fail(n ? n : &t, "cloth.generate." + key, problem.substr(problem.find(':') + 2));
   }
+  return std::make_shared<const cloth::TriangleMesh>(cloth::generate_mesh(s.mesh.shape));
 }
 
 }  // namespace
