@@ -42,4 +42,8 @@ constexpr double kDirectVsCgRelative = 1e-7;
 /// Strain limit of the stability tests, the seed scene's blowup_strain.
 constexpr double kBlowupStrain = 1.0;
 
+/// The self-intersection meter against its brute-force check: both evaluate the same distance
+/// formulas on the same pairs, so only the order of a few operations may differ.
+constexpr double kDistanceRoundoff = 1e-12;  // m
+
 }  // namespace clothbench::tol
