@@ -217,7 +217,7 @@ SelfIntersectionMeter::SelfIntersectionMeter(int vertex_count, std::vector<Trian
     throw std::invalid_argument("self-intersection: cutoff must be positive and finite, got " +
                                 std::to_string(cutoff));
   // the unique edges, each with its triangles
-  std::vector<std::array<int, 3>> half;  // (lo, hi, triangle)
+  std::vector<std::array<int, 4>> half;  // (lo, hi, triangle, side k)
   for (std::size_t t = 0; t < m_triangles.size(); ++t) {
     const Triangle& tri = m_triangles[t];
     for (int k = 0; k < 3; ++k) {
@@ -228,7 +228,7 @@ SelfIntersectionMeter::SelfIntersectionMeter(int vertex_count, std::vector<Trian
         throw std::invalid_argument("self-intersection: triangle " + std::to_string(t) +
                                     " repeats a vertex");
       const int a = tri[k], b = tri[(k + 1) % 3];
-      half.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t)});
+      half.push_back({std::min(a, b), std::max(a, b), static_cast<int>(t), k});
     }
   }
   std::sort(half.begin(), half.end());
@@ -240,14 +240,13 @@ SelfIntersectionMeter::SelfIntersectionMeter(int vertex_count, std::vector<Trian
     } else if (m_edge_tris.back()[1] < 0) {
       m_edge_tris.back()[1] = h[2];
     }
-    const int e = static_cast<int>(m_edges.size()) - 1;
-    auto& te = m_tri_edges[h[2]];
-    for (int& slot : te)
-      if (slot < 0 || slot == e) {
-        slot = e;
-        break;
-      }
+    m_tri_edges[h[2]][h[3]] = static_cast<int>(m_edges.size()) - 1;
   }
+  // the sides each triangle owns (it is the edge's first triangle), for edge-edge pairs
+  m_owned.assign(m_triangles.size(), 0);
+  for (std::size_t t = 0; t < m_triangles.size(); ++t)
+    for (int k = 0; k < 3; ++k)
+      if (m_edge_tris[m_tri_edges[t][k]][0] == static_cast<int>(t)) m_owned[t] |= char(1 << k);
   build_rings();
   const auto elements = static_cast<long long>(vertex_count) +
                         static_cast<long long>(m_edges.size() + m_triangles.size());
@@ -349,12 +348,12 @@ void SelfIntersectionMeter::edge_pass(Search& s) const {
       // the first triangle of the other edge)
       if (!(s.best > 0) || (near(tri[0]) && near(tri[1]) && near(tri[2]))) return;
       if (!closer_than(eb, tb, s.best)) return;
-      for (int f : m_tri_edges[t]) {
-        if (f <= e || m_edge_tris[f][0] != t) continue;
-        const int u = m_edges[f][0], w = m_edges[f][1];
+      for (int k = 0; k < 3; ++k) {
+        // (endpoints in the edge's order, lower index first)
+        const int u = std::min(tri[k], tri[(k + 1) % 3]), w = std::max(tri[k], tri[(k + 1) % 3]);
+        if (!(m_owned[t] >> k & 1) || near(u) || near(w) || m_tri_edges[t][k] <= e) continue;
         const Vector3 xu = s.p(u), xw = s.p(w);
         if (!closer_than(eb, box_of(xu, xw), s.best)) continue;
-        if (near(u) || near(w)) continue;
         const double d = segment_segment_distance(xp, xq, xu, xw);
         if (d < s.best) s.best = d;
       }

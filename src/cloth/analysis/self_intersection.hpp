@@ -46,7 +46,8 @@ struct SelfIntersection {
   double min_distance = 0;  // m, smallest vertex-triangle or edge-edge distance between elements
                             // more than two rings apart, capped at the cutoff; NaN when not finite
   bool complete = true;     // false when the work budget ran out (a blown-up state): crossings is
-                            // then a lower bound and min_distance an upper bound
+                            // then a lower bound, min_distance an upper bound and the crossing
+                            // triangles a part of them
   long long work = 0;       // units of work done (cells addressed, bucket entries read)
 };
 
@@ -88,7 +89,8 @@ class SelfIntersectionMeter {
   std::vector<Triangle> m_triangles;
   double m_cutoff = 0;
   std::vector<std::array<int, 2>> m_edges;      // #E unique edges (lo, hi)
-  std::vector<std::array<int, 3>> m_tri_edges;  // #T: the edges of each triangle
+  std::vector<std::array<int, 3>> m_tri_edges;  // #T: edge k joins vertices k and k + 1
+  std::vector<char> m_owned;  // #T: bit k set when the triangle is edge k's first triangle
   std::vector<std::array<int, 2>> m_edge_tris;  // #E: the (one or two) triangles of an edge, -1
   std::vector<int> m_adj_start, m_adj;          // vertex neighbours, CSR, sorted
   std::vector<int> m_ring_start, m_ring;        // vertices within two rings, CSR, sorted;
