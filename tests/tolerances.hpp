@@ -49,5 +49,8 @@ constexpr double kMeshAreaRelative = 1e-12;
 constexpr double kOnBoundaryRelative = 8 * 2.220446049250313e-16;
 /// Mean edge length of a generated mesh against its target: the 25%.
 constexpr double kMeanEdgeLengthRelative = 0.25;
+/// The self-intersection meter against its brute-force check: both evaluate the same distance
+/// formulas on the same pairs, so only the order of a few operations may differ.
+constexpr double kDistanceRoundoff = 1e-12;  // m
 
 }  // namespace clothbench::tol

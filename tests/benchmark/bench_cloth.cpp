@@ -15,11 +15,15 @@
 ///   BM_newton_without_sphere/block-jacobi-cg/128: BM_newton's run with the sphere removed.
 ///   BM_symplectic/<particles per edge>: one symplectic-euler step of the same scene at
 ///     h = 1e-5 s (the estimate of its largest stable step at 128), with sim_s_per_s.
+///   BM_self_intersection/<flat|folded>/<15|64>: one SelfIntersectionMeter::measure of an n x n
+///     grid (spacing 1/(n-1) m, cutoff one spacing), flat or with its upper half folded back over
+///     the lower half and through it, with triangles_per_second and the crossings found.
 
 #include <benchmark/benchmark.h>
 
 #include <random>
 
+#include "cloth/analysis/self_intersection.hpp"
 #include "cloth/forces/spring_forces.hpp"
 #include "cloth/integrators/mass_spring_cloth.hpp"
 #include "cloth/model/model.hpp"
@@ -104,6 +108,43 @@ void BM_symplectic(benchmark::State& state) {
       benchmark::Counter(h, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_symplectic)->Arg(25)->Arg(64)->Arg(128)->Unit(benchmark::kMicrosecond);
+
+void BM_self_intersection(benchmark::State& state, bool folded) {
+  const int n = static_cast<int>(state.range(0));
+  const double s = 1.0 / (n - 1);
+  Matrix3X x(3, n * n);
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      // the lower half flat in y = 0; the upper half mirrored back over it, shifted by 0.3 s in
+      // x and tilted so it passes down through the flat half a quarter of the rows past the fold
+      const int half = n / 2;
+      const bool upper = folded && j >= half;
+      const double z = upper ? (n - 1 - j + 0.3) * s : j * s;
+      const double y = upper ? 0.08 * (j - half - n / 4 - 0.5) * s : 0.0;
+      x.col(j * n + i) = Vector3((i + (upper ? 0.3 : 0.0)) * s, y, z);
+    }
+  const SelfIntersectionMeter meter(n * n, grid_triangles(n, n), s);
+  SelfIntersection r;
+  for (auto _ : state) {
+    r = meter.measure(x);
+    benchmark::DoNotOptimize(r);
+  }
+  const auto triangles = static_cast<double>(meter.triangles().size());
+  state.counters["triangles"] = triangles;
+  state.counters["crossings"] = r.crossings;
+  state.counters["work_per_element"] =
+      double(r.work) / (n * n + double(meter.edges().size()) + triangles);
+  state.counters["triangles_per_second"] =
+      benchmark::Counter(triangles, benchmark::Counter::kIsIterationInvariantRate);
+}
+BENCHMARK_CAPTURE(BM_self_intersection, flat, false)
+    ->Arg(15)
+    ->Arg(64)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(BM_self_intersection, folded, true)
+    ->Arg(15)
+    ->Arg(64)
+    ->Unit(benchmark::kMillisecond);
 
 // xpbd (10 sweeps) and projective (10 iterations, prefactored) at 1/30 s on the seed scene
 void BM_large_step(benchmark::State& state, Integrator integrator) {

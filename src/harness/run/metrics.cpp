@@ -98,9 +98,10 @@ FrameMetrics frame_metrics(const cloth::Model& model, double t, const Matrix3X& 
   m.max_stretch = s.max_stretch;
   m.max_compression = s.max_compression;
   if (meter) {
+    // a measurement cut short by its work budget (a blown-up state) is a bound, not a figure
     const cloth::SelfIntersection si = meter->measure(x);
-    m.self_intersections = si.crossings;
-    m.min_self_distance = si.min_distance;
+    m.self_intersections = si.complete ? si.crossings : -1;
+    m.min_self_distance = si.complete ? si.min_distance : NAN;
   }
   m.com = (x * model.mass) / model.mass.sum();
   m.min_y = x.row(1).minCoeff();
