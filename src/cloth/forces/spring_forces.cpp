@@ -1,5 +1,6 @@
 #include "cloth/forces/spring_forces.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -9,6 +10,59 @@ namespace {
 
 // keeps 1/|d| finite for coincident particles without changing any normal length
 constexpr double kTinyLength = 1e-300;
+
+// springs of the general list per chunk: the chunk's forces fit in the first-level cache
+constexpr int kChunk = 256;
+
+/// The general list's forces: per chunk, one gathering pass that computes every spring's
+/// force (vectorisable: no stores to particles), then one pass scattering them to both ends.
+double add_list_forces(const SpringList& l, double c, const Matrix3X& x, const Matrix3X& v,
+                       Matrix3X& f) {
+  const double* __restrict X = x.row(0).data();
+  const double* __restrict Y = x.row(1).data();
+  const double* __restrict Z = x.row(2).data();
+  const double* __restrict U = v.row(0).data();
+  const double* __restrict V = v.row(1).data();
+  const double* __restrict W = v.row(2).data();
+  double* __restrict fx = f.row(0).data();
+  double* __restrict fy = f.row(1).data();
+  double* __restrict fz = f.row(2).data();
+  const int* __restrict A = l.a.data();
+  const int* __restrict B = l.b.data();
+  const double* __restrict rest = l.rest.data();
+  const double* __restrict k = l.stiffness.data();
+  alignas(64) double bx[kChunk], by[kChunk], bz[kChunk];
+  double power = 0.0;
+  for (int s0 = 0; s0 < l.size(); s0 += kChunk) {
+    const int m = std::min(kChunk, l.size() - s0);
+    // the same expression as the grid kernel's, spring by spring; four lanes: with eight the
+    // gathers ran 1.2x slower, with two 1.1x (bench_cloth BM_spring_paths, AMD EPYC, gcc 12)
+#pragma omp simd reduction(+ : power) simdlen(4)
+    for (int i = 0; i < m; ++i) {
+      const int a = A[s0 + i], b = B[s0 + i];
+      const double dx = X[b] - X[a], dy = Y[b] - Y[a], dz = Z[b] - Z[a];
+      const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
+      const double il = 1.0 / (len + kTinyLength);
+      const double vr = ((U[b] - U[a]) * dx + (V[b] - V[a]) * dy + (W[b] - W[a]) * dz) * il;
+      const double sc = (k[s0 + i] * (len - rest[s0 + i]) + c * vr) * il;
+      bx[i] = sc * dx;
+      by[i] = sc * dy;
+      bz[i] = sc * dz;
+      power += c * vr * vr;
+    }
+    // end a gains the force, end b loses it
+    for (int i = 0; i < m; ++i) {
+      const int a = A[s0 + i], b = B[s0 + i];
+      fx[a] += bx[i];
+      fy[a] += by[i];
+      fz[a] += bz[i];
+      fx[b] -= bx[i];
+      fy[b] -= by[i];
+      fz[b] -= bz[i];
+    }
+  }
+  return power;
+}
 
 }  // namespace
 
@@ -50,6 +104,7 @@ double add_spring_forces(const SpringSet& springs, const Matrix3X& x, const Matr
       f.row(r).segment(o, m) -= buf.row(r).head(m);
     }
   }
+  if (!springs.list.empty()) power += add_list_forces(springs.list, c, x, v, f);
   return power;
 }
 
@@ -65,6 +120,12 @@ double damping_power(const SpringSet& springs, const Matrix3X& x, const Matrix3X
       power += fam.mask[p] * c * vr * vr;
     }
   }
+  const SpringList& l = springs.list;
+  for (size_t i = 0; i < l.a.size(); ++i) {
+    const Vector3 d = x.col(l.b[i]) - x.col(l.a[i]);
+    const double vr = (v.col(l.b[i]) - v.col(l.a[i])).dot(d) / (d.norm() + kTinyLength);
+    power += c * vr * vr;
+  }
   return power;
 }
 
@@ -79,27 +140,33 @@ double elastic_energy(const SpringSet& springs, const Matrix3X& x) {
     }
     e += 0.5 * fam.stiffness * ef;
   }
+  const SpringList& l = springs.list;
+  for (size_t i = 0; i < l.a.size(); ++i) {
+    const double stretch = (x.col(l.b[i]) - x.col(l.a[i])).norm() - l.rest[i];
+    e += 0.5 * l.stiffness[i] * stretch * stretch;
+  }
   return e;
 }
 
 StrainStats strain_stats(const SpringSet& springs, const Matrix3X& x) {
   StrainStats s;
   double sum = 0.0;
-  int count = 0;
   bool nan = false;
-  for (const SpringFamily& fam : springs.families) {
-    const int o = fam.offset, m = fam.slots();
-    for (int p = 0; p < m; ++p) {
-      if (fam.mask[p] == 0.0) continue;
-      const double e = std::abs((x.col(p + o) - x.col(p)).norm() / fam.rest[p] - 1.0);
-      nan = nan || !std::isfinite(e);
-      s.max_abs = std::max(s.max_abs, e);
-      sum += e;
-      ++count;
-    }
+  // signed strain l / l0 - 1 of each spring; stretch and compression over non-bend springs
+  for_each_spring(springs, [&](int p, int q, size_t g, int slot) {
+    const double e = (x.col(q) - x.col(p)).norm() / springs.rest(g, slot) - 1.0;
+    nan = nan || !std::isfinite(e);
+    s.max_abs = std::max(s.max_abs, std::abs(e));
+    sum += std::abs(e);
+    if (springs.kind(g, slot) == SpringKind::bend) return;
+    s.max_stretch = std::max(s.max_stretch, e);
+    s.max_compression = std::max(s.max_compression, -e);
+  });
+  if (nan) {
+    const double q = std::numeric_limits<double>::quiet_NaN();
+    return {q, q, q, q};
   }
-  if (nan)
-    return {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::quiet_NaN()};
+  const int count = springs.count();
   s.mean_abs = count > 0 ? sum / count : 0.0;
   return s;
 }
@@ -129,6 +196,18 @@ bool within_strain(const SpringSet& springs, const Matrix3X& x, double limit) {
       const bool ok = (d2 <= hi * r2) && (d2 >= lo * r2);
       bad += (mask[p] != 0.0 && !ok) ? 1 : 0;
     }
+  }
+  const SpringList& l = springs.list;
+  const int* __restrict A = l.a.data();
+  const int* __restrict B = l.b.data();
+  const double* __restrict rest = l.rest.data();
+#pragma omp simd reduction(+ : bad)
+  for (int i = 0; i < l.size(); ++i) {
+    const int a = A[i], b = B[i];
+    const double dx = X[b] - X[a], dy = Y[b] - Y[a], dz = Z[b] - Z[a];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    const double r2 = rest[i] * rest[i];
+    bad += ((d2 <= hi * r2) && (d2 >= lo * r2)) ? 0 : 1;
   }
   // a single particle without springs is checked for finiteness directly
   return bad == 0 && x.allFinite();
