@@ -3,9 +3,10 @@
 ///   BM_spring_forces/<particles per edge>: one full spring + damping force evaluation of the
 ///     seed cloth at that resolution, with springs_per_second.
 ///   BM_spring_paths/<path>: the 64 x 64 seed cloth's springs in one force evaluation as in
-///     BM_spring_forces, through the grid kernel ("grid") and as a general list after a random
-///     shuffle of the particle numbers ("shuffled") and after locality_order renumbering of
-///     the shuffled ones ("renumbered"); items_per_second counts springs.
+///     BM_spring_forces, through the grid kernel ("grid") and as a general list (laid out by
+///     renumbered()) after a random shuffle of the particle numbers ("shuffled") and after
+///     locality_order renumbering of the shuffled ones ("renumbered"); items_per_second
+///     counts springs.
 ///   BM_step/<integrator>: one step of the seed scene at the report's h = 1e-4 s
 ///     (implicit-euler at h = 1/60 s, with its CG iterations per step).
 ///   BM_newton/<solver>/<particles per edge>: the first 0.3 s (9 steps of h = 1/30 s) of the

@@ -51,19 +51,28 @@ SpringSet to_general(const SpringSet& springs) {
 }
 
 SpringSet renumbered(const SpringSet& springs, const std::vector<int>& new_of_old) {
+  // each spring from its lower new end a to its upper one b, by a then b
   std::vector<SpringLink> links = springs.links();
   for (SpringLink& l : links) {
-    l.a = new_of_old[size_t(l.a)];
-    l.b = new_of_old[size_t(l.b)];
+    const int a = new_of_old[size_t(l.a)], b = new_of_old[size_t(l.b)];
+    l.a = std::min(a, b);
+    l.b = std::max(a, b);
   }
-  // by lower end, then upper end, so that consecutive springs touch nearby particles
   std::stable_sort(links.begin(), links.end(), [](const SpringLink& p, const SpringLink& q) {
-    const int p0 = std::min(p.a, p.b), q0 = std::min(q.a, q.b);
-    return p0 != q0 ? p0 < q0 : std::max(p.a, p.b) < std::max(q.a, q.b);
+    return p.a != q.a ? p.a < q.a : p.b < q.b;
   });
+  // then in rounds: every particle's first spring, then every particle's second, ...; within
+  // a round the springs' a are increasing, mostly consecutive particles
+  std::vector<int> round(links.size(), 0);
+  for (size_t i = 1; i < links.size(); ++i)
+    if (links[i].a == links[i - 1].a) round[i] = round[i - 1] + 1;
+  std::vector<size_t> order(links.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](size_t p, size_t q) { return round[p] < round[q]; });
   SpringSet out;
   out.damping = springs.damping;
-  for (const SpringLink& l : links) out.list.push_back(l);
+  for (size_t i : order) out.list.push_back(links[i]);
   return out;
 }
 

@@ -116,9 +116,10 @@ void for_each_spring(const SpringSet& springs, Visit&& visit) {
 /// The same springs, in the order of links(), as a general list; no families.
 SpringSet to_general(const SpringSet& springs);
 
-/// The springs between renumbered particles, as a general list sorted by each spring's lower
-/// new end, then its upper one (consecutive springs then touch nearby particles); the ends of
-/// each spring keep their order.
+/// The springs between renumbered particles, as a general list laid out for the kernels: each
+/// spring from its lower new end a to its upper one b, in rounds (every particle's first
+/// spring by a, then every particle's second, ...), so that consecutive springs mostly start
+/// at consecutive particles, which the force kernel loads and updates as vectors.
 /// @param new_of_old  #P, the new index of each old particle (a permutation)
 SpringSet renumbered(const SpringSet& springs, const std::vector<int>& new_of_old);
 
