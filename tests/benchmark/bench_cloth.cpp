@@ -2,6 +2,11 @@
 /// Kernel and step benchmarks of the custom engine (Google Benchmark; not part of ctest).
 ///   BM_spring_forces/<particles per edge>: one full spring + damping force evaluation of the
 ///     seed cloth at that resolution, with springs_per_second.
+///   BM_spring_paths/<path>: the 64 x 64 seed cloth's springs in one force evaluation as in
+///     BM_spring_forces, through the grid kernel ("grid") and as a general list (laid out by
+///     renumbered()) after a random shuffle of the particle numbers ("shuffled") and after
+///     locality_order renumbering of the shuffled ones ("renumbered"); items_per_second
+///     counts springs.
 ///   BM_step/<integrator>: one step of the seed scene at the report's h = 1e-4 s
 ///     (implicit-euler at h = 1/60 s, with its CG iterations per step).
 ///   BM_newton/<solver>/<particles per edge>: the first 0.3 s (9 steps of h = 1/30 s) of the
@@ -21,7 +26,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include <numeric>
 #include <random>
+#include <vector>
 
 #include "cloth/analysis/self_intersection.hpp"
 #include "cloth/forces/spring_forces.hpp"
@@ -57,6 +64,51 @@ void BM_spring_forces(benchmark::State& state) {
       static_cast<double>(m.springs.count()), benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_spring_forces)->Arg(25)->Arg(64)->Arg(128);
+
+/// Which numbering and kernel BM_spring_paths measures.
+enum class SpringPath { grid, shuffled, renumbered };
+
+void BM_spring_paths(benchmark::State& state, SpringPath path) {
+  Scene s = seed_scene();
+  s.cloth.nu = s.cloth.nv = 64;
+  s.held.clear();
+  const Model m = build_model(s);
+  const int n = m.particle_count();
+  // the shaken state of BM_spring_forces
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> u(-1e-3, 1e-3);
+  Matrix3X x = m.x0, v = Matrix3X::Zero(3, n);
+  for (Eigen::Index p = 0; p < x.cols(); ++p)
+    for (int r = 0; r < 3; ++r) {
+      x(r, p) += u(rng);
+      v(r, p) = u(rng);
+    }
+  // particle p becomes new_of_old[p]: a random shuffle, then (renumbered) locality_order's
+  std::vector<int> new_of_old(static_cast<size_t>(n));
+  std::iota(new_of_old.begin(), new_of_old.end(), 0);
+  if (path != SpringPath::grid) std::shuffle(new_of_old.begin(), new_of_old.end(), rng);
+  SpringSet springs = path == SpringPath::grid ? m.springs : renumbered(m.springs, new_of_old);
+  if (path == SpringPath::renumbered) {
+    const std::vector<int> order = locality_order(n, springs.links());
+    springs = renumbered(springs, order);
+    for (int& q : new_of_old) q = order[static_cast<size_t>(q)];
+  }
+  Matrix3X xn(3, n), vn(3, n);
+  for (int p = 0; p < n; ++p) {
+    xn.col(new_of_old[static_cast<size_t>(p)]) = x.col(p);
+    vn.col(new_of_old[static_cast<size_t>(p)]) = v.col(p);
+  }
+  Matrix3X f(3, n), buf(3, n);
+  for (auto _ : state) {
+    f.setZero();
+    benchmark::DoNotOptimize(add_spring_forces(springs, xn, vn, f, buf));
+    benchmark::ClobberMemory();
+  }
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations()) * springs.count());
+}
+BENCHMARK_CAPTURE(BM_spring_paths, grid, SpringPath::grid);
+BENCHMARK_CAPTURE(BM_spring_paths, shuffled, SpringPath::shuffled);
+BENCHMARK_CAPTURE(BM_spring_paths, renumbered, SpringPath::renumbered);
 
 void BM_step(benchmark::State& state, Integrator integrator) {
   SolverOptions o;

@@ -286,10 +286,11 @@ LinearSpectrum linear_spectrum(const Model& model, int max_steps, int dense_max_
   // modal damping: exact c / k when every spring kind has the same stiffness
   double k0 = -1.0;
   bool same = true;
-  for (const SpringFamily& f : model.springs.families) {
-    if (k0 < 0) k0 = f.stiffness;
-    same = same && f.stiffness == k0;
-  }
+  for_each_spring(model.springs, [&](int, int, size_t g, int slot) {
+    const double ks = model.springs.stiffness(g, slot);
+    if (k0 < 0) k0 = ks;
+    same = same && ks == k0;
+  });
   s.method = "damping proportional to stiffness: exact";
   if (k0 <= 0) return s;
   if (same) {

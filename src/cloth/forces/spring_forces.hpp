@@ -1,6 +1,7 @@
 #pragma once
 /// @file spring_forces.hpp
-/// Spring and damping forces of the report, energies and strain, family by family:
+/// Spring and damping forces of the report, energies and strain, family by family and then
+/// over the general list (spring_set.hpp):
 ///   f_a = -k (|x_a - x_b| - l0) d^ - c ((v_a - v_b) . d^) d^,   d^ = (x_a - x_b) / |x_a - x_b|
 
 #include "cloth/model/spring_set.hpp"
@@ -26,13 +27,17 @@ double damping_power(const SpringSet& springs, const Matrix3X& x, const Matrix3X
 /// @param x  3 by #P positions (m)
 double elastic_energy(const SpringSet& springs, const Matrix3X& x);
 
-/// Strain |d| / l0 - 1 over all springs.
+/// Strain |d| / l0 - 1 over all springs; stretch and compression over the springs that hold
+/// the cloth's surface (structural and shear), not the bend springs, which close up across a
+/// fold without any overstretch.
 struct StrainStats {
-  double max_abs = 0;   // largest |strain|
-  double mean_abs = 0;  // mean |strain|
+  double max_abs = 0;          // largest |strain|, every spring
+  double mean_abs = 0;         // mean |strain|, every spring
+  double max_stretch = 0;      // largest positive part of strain, non-bend springs
+  double max_compression = 0;  // largest positive part of -strain, non-bend springs
 };
 
-/// Strain statistics of positions x (3 by #P); NaN positions give NaN statistics.
+/// Strain statistics of positions x (3 by #P); NaN positions make every statistic NaN.
 StrainStats strain_stats(const SpringSet& springs, const Matrix3X& x);
 
 }  // namespace cloth

@@ -2,7 +2,8 @@
 /// @file spring_jacobians.hpp
 /// Analytic Jacobians of the spring forces, applied matrix-free.
 ///
-/// For a spring from p to q with d = x_q - x_p, l = |d|, d^ = d / l and b = 1 - l0 / l:
+/// For a spring from p to q (a family's anchor p and its partner, or a list's ends a and b)
+/// with d = x_q - x_p, l = |d|, d^ = d / l and b = 1 - l0 / l:
 ///   df_p/dx_q = J = k ((1 - b) d^ d^T + b I),   df_p/dx_p = -J,
 ///   df_p/dv_q = c d^ d^T,                        df_p/dv_p = -c d^ d^T.
 /// With clamping, b is replaced by max(b, 0): a compressed spring then contributes no
@@ -16,9 +17,10 @@
 
 namespace cloth {
 
-/// Per spring direction d^ and transverse factor b, for each family.
+/// Per spring direction d^ and transverse factor b, for each group of springs (spring_set.hpp).
 struct SpringLinearization {
-  /// one 4 by slots matrix per family: rows d^x, d^y, d^z, b (0 where no spring)
+  /// one 4 by slots matrix per group (SpringSet::groups(): each family, then the general list
+  /// with one slot per spring): rows d^x, d^y, d^z, b (0 where no spring)
   std::vector<Eigen::Matrix<double, 4, Eigen::Dynamic, Eigen::RowMajor>> dirs;
 };
 

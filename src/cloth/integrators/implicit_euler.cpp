@@ -15,16 +15,18 @@ constexpr int kMaxHalvings = 30;
 
 }  // namespace
 
-LinearSolver resolved_linear_solver(LinearSolver s, int particles) {
+LinearSolver resolved_linear_solver(LinearSolver s, int particles, bool grid) {
   // the coarse grid's setup and solves cost more than they save below about 40 per edge;
   // ldlt was never the fastest (README, "Large steps")
   if (s != LinearSolver::automatic) return s;
-  return particles >= kTwoLevelMinParticles ? LinearSolver::two_level_cg
-                                            : LinearSolver::block_jacobi_cg;
+  return grid && particles >= kTwoLevelMinParticles ? LinearSolver::two_level_cg
+                                                    : LinearSolver::block_jacobi_cg;
 }
 
 ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o)
-    : ImplicitEulerNewton(m, o, resolved_linear_solver(o.linear_solver, m.particle_count())) {}
+    : ImplicitEulerNewton(
+          m, o,
+          resolved_linear_solver(o.linear_solver, m.particle_count(), m.springs.list.empty())) {}
 
 ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o,
                                          LinearSolver solver)

@@ -33,8 +33,10 @@ namespace cloth {
 constexpr int kTwoLevelMinParticles = 48 * 48;
 
 /// The linear solver that `automatic` means for a line-search step on a cloth of that many
-/// particles: two-level-cg from kTwoLevelMinParticles up, block-jacobi-cg below (README).
-LinearSolver resolved_linear_solver(LinearSolver s, int particles);
+/// particles: two-level-cg from kTwoLevelMinParticles up, block-jacobi-cg below (README), and
+/// block-jacobi-cg on a cloth that is not a grid (two-level-cg needs one: coarse_grid.hpp).
+/// @param grid  false when the cloth's springs have a general list (SpringSet::list)
+LinearSolver resolved_linear_solver(LinearSolver s, int particles, bool grid = true);
 
 /// Newton with line search for one scene; scratch sized once.
 class ImplicitEulerNewton {

@@ -1,5 +1,7 @@
 #include "cloth/integrators/mass_spring_cloth.hpp"
 
+#include <utility>
+
 #include "cloth/contact/colliders.hpp"
 #include "cloth/contact/sphere_collision.hpp"
 #include "cloth/forces/spring_forces.hpp"
@@ -8,7 +10,10 @@
 namespace cloth {
 
 MassSpringCloth::MassSpringCloth(const Scene& scene, const SolverOptions& options)
-    : m_model(build_model(scene)), m_options(options) {
+    : MassSpringCloth(build_model(scene), options) {}
+
+MassSpringCloth::MassSpringCloth(Model model, const SolverOptions& options)
+    : m_model(std::move(model)), m_options(options) {
   const Eigen::Index n = m_model.particle_count();
   m_x = m_model.x0;
   m_v = Matrix3X::Zero(3, n);

@@ -21,6 +21,8 @@ namespace cloth {
 class MassSpringCloth final : public Simulator {
  public:
   MassSpringCloth(const Scene& scene, const SolverOptions& options);
+  /// The engine on a model built elsewhere (a mesh's, or a grid's springs as a general list).
+  MassSpringCloth(Model model, const SolverOptions& options);
 
   void step(double dt) override;
   const Matrix3X& positions() const override { return m_x; }

@@ -27,8 +27,8 @@ Triplets system_entries(const Model& m, double h) {
   Triplets t;
   for (Eigen::Index i = 0; i < m.mass.size(); ++i)
     t.emplace_back(int(i), int(i), m.mass[i] / (h * h) + m.air_drag / h);
-  for_each_spring(m.springs, [&](int a, int b, size_t fi) {
-    const double k = m.springs.families[fi].stiffness + m.springs.damping / h;
+  for_each_spring(m.springs, [&](int a, int b, size_t g, int s) {
+    const double k = m.springs.stiffness(g, s) + m.springs.damping / h;
     t.emplace_back(a, a, k);
     t.emplace_back(b, b, k);
     t.emplace_back(a, b, -k);
@@ -88,7 +88,7 @@ void ProjectiveSolver::add_velocity_forces(const Model& m, double h, const Matri
   // the matrix's part, so the lagged iteration contracts whatever the damping.
   const double ch = m.springs.damping / h;
   if (ch != 0.0) {
-    for_each_spring(m.springs, [&](int a, int b, size_t) {
+    for_each_spring(m.springs, [&](int a, int b, size_t, int) {
       const Vector3 d0 = m_x0.col(b) - m_x0.col(a);
       const Vector3 n = d0.normalized();
       const Vector3 du = (x.col(b) - m_x0.col(b)) - (x.col(a) - m_x0.col(a));
@@ -105,12 +105,11 @@ void ProjectiveSolver::add_velocity_forces(const Model& m, double h, const Matri
 }
 
 void ProjectiveSolver::add_projections(const Model& m, const Matrix3X& x, Matrix3X& rhs) const {
-  for_each_spring(m.springs, [&](int a, int b, size_t fi) {
+  for_each_spring(m.springs, [&](int a, int b, size_t g, int s) {
     const Vector3 d = x.col(b) - x.col(a);
     const double len = d.norm();
     if (!(len > 0.0)) return;
-    const SpringFamily& fam = m.springs.families[fi];
-    const Vector3 kd = fam.stiffness * fam.rest[a] / len * d;
+    const Vector3 kd = m.springs.stiffness(g, s) * m.springs.rest(g, s) / len * d;
     rhs.col(b) += kd;
     rhs.col(a) -= kd;
   });

@@ -1,6 +1,7 @@
 #include "cloth/integrators/xpbd.hpp"
 
 #include <cmath>
+#include <vector>
 
 #include "cloth/forces/spring_forces.hpp"
 
@@ -8,44 +9,34 @@ namespace cloth {
 
 namespace {
 
-/// The constants of one family's constraints in a substep of hs seconds.
-struct Compliance {
-  double alpha_tilde = 0;  // 1 / (k hs^2)
-  double gamma = 0;        // alpha_tilde beta_tilde / hs = c / (k hs)
-};
-
 /// One Gauss-Seidel sweep over every spring of m: moves the predicted positions p towards
 /// the compliant constraints; x holds the substep's start positions (for the damping term),
-/// lambda the springs' accumulated multipliers (one per anchor slot, family after family).
+/// lambda the springs' accumulated multipliers (one per slot of each group, group after group,
+/// spring_set.hpp), base the first index of each group's.
 void project_springs(const Model& m, double hs, Matrix3X& p, const Matrix3X& x, VectorX& lambda,
-                     Counters& counters) {
+                     const std::vector<Eigen::Index>& base, Counters& counters) {
   const double c = m.springs.damping;
-  Eigen::Index base = 0;
-  for (const SpringFamily& fam : m.springs.families) {
-    const int o = fam.offset, slots = fam.slots();
-    const Compliance comp{1.0 / (fam.stiffness * hs * hs), c / (fam.stiffness * hs)};
-    for (int a = 0; a < slots; ++a) {
-      if (fam.mask[a] == 0.0) continue;
-      const int b = a + o;
-      const Vector3 d = p.col(b) - p.col(a);
-      const double len = d.norm();
-      if (!(len > 0.0)) continue;  // coincident ends have no direction
-      const Vector3 n = d / len;
-      const Vector3 wa = m.inv_mass[a] * m.free.col(a), wb = m.inv_mass[b] * m.free.col(b);
-      const double w = (wa + wb).dot(n.cwiseProduct(n));
-      if (w == 0.0) continue;  // both ends held along the spring
-      const double constraint = len - fam.rest[a];
-      const double moved = n.dot((p.col(b) - x.col(b)) - (p.col(a) - x.col(a)));
-      double& l = lambda[base + a];
-      const double dl = (-constraint - comp.alpha_tilde * l - comp.gamma * moved) /
-                        ((1.0 + comp.gamma) * w + comp.alpha_tilde);
-      l += dl;
-      p.col(b) += dl * wb.cwiseProduct(n);
-      p.col(a) -= dl * wa.cwiseProduct(n);
-      ++counters.constraint_projections;
-    }
-    base += slots;
-  }
+  for_each_spring(m.springs, [&](int a, int b, size_t g, int s) {
+    // the constants of the constraint: alpha~ = 1 / (k hs^2), gamma = alpha~ beta~ / hs
+    const double k = m.springs.stiffness(g, s);
+    const double alpha_tilde = 1.0 / (k * hs * hs), gamma = c / (k * hs);
+    const Vector3 d = p.col(b) - p.col(a);
+    const double len = d.norm();
+    if (!(len > 0.0)) return;  // coincident ends have no direction
+    const Vector3 n = d / len;
+    const Vector3 wa = m.inv_mass[a] * m.free.col(a), wb = m.inv_mass[b] * m.free.col(b);
+    const double w = (wa + wb).dot(n.cwiseProduct(n));
+    if (w == 0.0) return;  // both ends held along the spring
+    const double constraint = len - m.springs.rest(g, s);
+    const double moved = n.dot((p.col(b) - x.col(b)) - (p.col(a) - x.col(a)));
+    double& l = lambda[base[g] + s];
+    const double dl =
+        (-constraint - alpha_tilde * l - gamma * moved) / ((1.0 + gamma) * w + alpha_tilde);
+    l += dl;
+    p.col(b) += dl * wb.cwiseProduct(n);
+    p.col(a) -= dl * wa.cwiseProduct(n);
+    ++counters.constraint_projections;
+  });
 }
 
 }  // namespace
@@ -54,8 +45,15 @@ double xpbd_step(const Model& m, const SolverOptions& o, double h, Matrix3X& x, 
                  Matrix3X& p, VectorX& lambda, Counters& counters) {
   const int substeps = o.substeps;
   const double hs = h / substeps;
+  // each group's first multiplier: the families' slots, then the list's springs
+  std::vector<Eigen::Index> base;
   Eigen::Index slots = 0;
-  for (const SpringFamily& fam : m.springs.families) slots += fam.slots();
+  for (const SpringFamily& fam : m.springs.families) {
+    base.push_back(slots);
+    slots += fam.slots();
+  }
+  base.push_back(slots);
+  slots += m.springs.list.size();
   lambda.resize(slots);  // a no-op after the first step
   double dissipated = 0.0;
   for (int s = 0; s < substeps; ++s) {
@@ -70,7 +68,7 @@ double xpbd_step(const Model& m, const SolverOptions& o, double h, Matrix3X& x, 
     p = x + hs * v;
     lambda.setZero();
     for (int it = 0; it < o.iterations; ++it) {
-      project_springs(m, hs, p, x, lambda, counters);
+      project_springs(m, hs, p, x, lambda, base, counters);
       ++counters.force_evals;  // one sweep over every spring: the work of a force evaluation
     }
     // a held axis moved exactly by its velocity in the prediction and no projection moves it

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
+#include <stdexcept>
 
 #include "cloth/model/spring_set.hpp"
 #include "cloth/solvers/implicit_matrix.hpp"
@@ -38,6 +39,17 @@ int coarse_count(int n, int coarsening) {
   return n <= 1 ? 1 : (n - 1 + coarsening - 1) / coarsening + 1;
 }
 
+/// m itself if its springs are a grid's families; otherwise throws std::invalid_argument: the
+/// coarse grid interpolates along the grid's rows and columns, which a general list has not.
+const Model& grid_only(const Model& m) {
+  if (!m.springs.list.empty())
+    throw std::invalid_argument(
+        "linear_solver = \"two-level-cg\" needs a rectangular grid cloth (its coarse grid "
+        "follows the grid's rows and columns); for a cloth of general springs (a mesh) use "
+        "linear_solver = \"block-jacobi-cg\" (or \"auto\", which chooses it)");
+  return m;
+}
+
 /// Up to eight (coarse node, coefficient) terms of P_p - P_q, equal nodes merged.
 struct Difference {
   int count = 0;
@@ -58,7 +70,7 @@ struct Difference {
 }  // namespace
 
 CoarseGrid::CoarseGrid(const Model& m, int coarsening)
-    : m_cu(coarse_count(m.nu, coarsening)),
+    : m_cu(coarse_count(grid_only(m).nu, coarsening)),
       m_cv(coarse_count(m.nv, coarsening)),
       m_u(axis_weights(m.nu, m_cu)),
       m_v(axis_weights(m.nv, m_cv)) {
@@ -76,7 +88,7 @@ CoarseGrid::CoarseGrid(const Model& m, int coarsening)
       par.weight = {u0 * v0, (1 - u0) * v0, u0 * (1 - v0), (1 - u0) * (1 - v0)};
     }
   // the stencil: how far apart, in coarse nodes, two parents of a spring's ends can be
-  for_each_spring(m.springs, [&](int p, int q, size_t) {
+  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
     for (int a : m_parents[p].node)
       for (int b : m_parents[q].node) {
         m_ru = std::max(m_ru, std::abs(a % m_cu - b % m_cu));
@@ -170,8 +182,8 @@ void CoarseGrid::add_diagonal(const Model& m, double h) {
 void CoarseGrid::add_springs(const Model& m, const SpringLinearization& lin_k,
                              const SpringLinearization& lin_d, double h) {
   // a spring adds G^T B G with G = S_p P_p - S_q P_q (its rows of A are +-B between p and q)
-  for_each_spring(m.springs, [&](int p, int q, size_t fi) {
-    const Matrix3 b = spring_block(m, lin_k, lin_d, fi, p, h);
+  for_each_spring(m.springs, [&](int p, int q, size_t group, int s) {
+    const Matrix3 b = spring_block(m, lin_k, lin_d, group, s, h);
     Difference diff;
     for (int i = 0; i < 4; ++i) diff.add(m_parents[p].node[i], m_parents[p].weight[i]);
     for (int i = 0; i < 4; ++i) diff.add(m_parents[q].node[i], -m_parents[q].weight[i]);

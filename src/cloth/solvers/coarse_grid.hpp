@@ -36,6 +36,8 @@ class CoarseGrid {
   };
 
   /// @param coarsening  fine particles per coarse interval, at most, along each grid axis (>= 2)
+  /// @throws std::invalid_argument if m's springs have a general list (not a grid's families),
+  ///         naming the linear solver to use instead
   CoarseGrid(const Model& m, int coarsening);
 
   /// Forms A_c = P^T A P for A at lin_k, lin_d and step h, filtered by m's held axes and

@@ -17,10 +17,10 @@ int entry_offset(const Eigen::SparseMatrix<double>& a, int row, int col) {
 }  // namespace
 
 Matrix3 spring_block(const Model& m, const SpringLinearization& lin_k,
-                     const SpringLinearization& lin_d, size_t fi, int p, double h) {
-  const auto& L = lin_k.dirs[fi];
-  const double k = m.springs.families[fi].stiffness, b = L(3, p);
-  const Vector3 d = L.col(p).head<3>(), d0 = lin_d.dirs[fi].col(p).head<3>();
+                     const SpringLinearization& lin_d, size_t g, int s, double h) {
+  const auto& L = lin_k.dirs[g];
+  const double k = m.springs.stiffness(g, s), b = L(3, s);
+  const Vector3 d = L.col(s).head<3>(), d0 = lin_d.dirs[g].col(s).head<3>();
   return h * h * k * ((1.0 - b) * d * d.transpose() + b * Matrix3::Identity()) +
          h * m.springs.damping * d0 * d0.transpose();
 }
@@ -35,7 +35,7 @@ ImplicitMatrix::ImplicitMatrix(const Model& m, bool whole) {
       for (int c = 0; c < 3; ++c) t.emplace_back(3 * p + r, 3 * q + c, 0.0);
   };
   for (int p = 0; p < n; ++p) add_block(p, p);
-  for_each_spring(m.springs, [&](int p, int q, size_t) {
+  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
     add_block(p, q);
     add_block(q, p);
   });
@@ -47,7 +47,7 @@ ImplicitMatrix::ImplicitMatrix(const Model& m, bool whole) {
     for (int c = 0; c < 3; ++c) out.push_back(entry_offset(m_a, 3 * p, 3 * q + c));
   };
   for (int p = 0; p < n; ++p) block_slots(p, p, m_diag_slots);
-  for_each_spring(m.springs, [&](int p, int q, size_t) {
+  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
     for (auto [r, c] : {std::pair{p, p}, {q, q}, {p, q}, {q, p}}) block_slots(r, c, m_spring_slots);
   });
   // held axes: identity row and column
@@ -71,8 +71,8 @@ void ImplicitMatrix::assemble(const Model& m, const SpringLinearization& lin_k,
     for (int c = 0; c < 3; ++c) val[m_diag_slots[3 * p + c] + c] = m.mass[p] + h * m.air_drag;
   // each spring's block B = h^2 J + h c d0 d0^T: +B on both diagonal blocks, -B off them
   int s = 0;
-  for_each_spring(m.springs, [&](int p, int, size_t fi) {
-    const Matrix3 block = spring_block(m, lin_k, lin_d, fi, p, h);
+  for_each_spring(m.springs, [&](int, int, size_t g, int slot) {
+    const Matrix3 block = spring_block(m, lin_k, lin_d, g, slot, h);
     const int* slots = &m_spring_slots[12 * s++];
     for (int blk = 0; blk < 4; ++blk) {
       const double sign = blk < 2 ? 1.0 : -1.0;
@@ -101,6 +101,7 @@ void ImplicitMatrix::assemble_diagonal_blocks(const Model& m, const SpringLinear
   m_sym.setZero(6, n);
   for (size_t fi = 0; fi < m.springs.families.size(); ++fi)
     add_family_diagonal(m, lin_k.dirs[fi], lin_d.dirs[fi], fi, h);
+  if (!m.springs.list.empty()) add_list_diagonal(m, lin_k.dirs.back(), lin_d.dirs.back(), h);
   m_blocks.resize(3, 3 * Eigen::Index(n));
   const double diagonal_extra = h * m.air_drag;
   for (int p = 0; p < n; ++p) {
@@ -148,6 +149,26 @@ void ImplicitMatrix::add_family_diagonal(const Model& m, const LinearizedFamily&
   }
 }
 
+void ImplicitMatrix::add_list_diagonal(const Model& m, const LinearizedFamily& lk,
+                                       const LinearizedFamily& ld, double h) {
+  // the general list's blocks B, as in add_family_diagonal, added to both ends one by one
+  const SpringList& l = m.springs.list;
+  const double hc = h * m.springs.damping;
+  for (int i = 0; i < l.size(); ++i) {
+    const double hk = h * h * l.stiffness[size_t(i)];
+    const double t = hk * (1.0 - lk(3, i)), s = hk * lk(3, i);
+    const double dx = lk(0, i), dy = lk(1, i), dz = lk(2, i);
+    const double ex = ld(0, i), ey = ld(1, i), ez = ld(2, i);
+    const double e[6] = {t * dx * dx + s + hc * ex * ex, t * dy * dy + s + hc * ey * ey,
+                         t * dz * dz + s + hc * ez * ez, t * dx * dy + hc * ex * ey,
+                         t * dx * dz + hc * ex * ez,     t * dy * dz + hc * ey * ez};
+    for (int r = 0; r < 6; ++r) {
+      m_sym(r, l.a[size_t(i)]) += e[r];
+      m_sym(r, l.b[size_t(i)]) += e[r];
+    }
+  }
+}
+
 void ImplicitMatrix::apply_contacts(const Model& m, const std::vector<ContactConstraint>& contacts,
                                     bool whole) {
   if (contacts.empty()) return;
@@ -181,7 +202,7 @@ void ImplicitMatrix::apply_contacts(const Model& m, const std::vector<ContactCon
   };
   // the off-diagonal blocks pq and qp of every spring with an end in contact
   int s = 0;
-  for_each_spring(m.springs, [&](int p, int q, size_t) {
+  for_each_spring(m.springs, [&](int p, int q, size_t, int) {
     const int* slots = &m_spring_slots[12 * s++];
     if (!touching[p] && !touching[q]) return;
     transform(slots + 6, p, q, false);

@@ -17,10 +17,11 @@
 
 namespace cloth {
 
-/// The block B = h^2 J + h c d0 d0^T of the spring anchored at p in family fi, J from lin_k and
-/// the damper's direction d0 from lin_d: A holds +B on both ends' diagonal blocks and -B off them.
+/// The block B = h^2 J + h c d0 d0^T of the spring in slot s of group g (spring_set.hpp), J
+/// from lin_k and the damper's direction d0 from lin_d: A holds +B on both ends' diagonal blocks
+/// and -B off them.
 Matrix3 spring_block(const Model& m, const SpringLinearization& lin_k,
-                     const SpringLinearization& lin_d, size_t fi, int p, double h);
+                     const SpringLinearization& lin_d, size_t g, int s, double h);
 
 /// A in compressed column storage, with the value offsets of every spring's blocks.
 class ImplicitMatrix {
@@ -67,6 +68,9 @@ class ImplicitMatrix {
   /// Adds family fi's spring blocks to m_sym at both ends of each spring.
   void add_family_diagonal(const Model& m, const LinearizedFamily& lk, const LinearizedFamily& ld,
                            size_t fi, double h);
+  /// Adds the general list's spring blocks to m_sym at both ends of each spring.
+  void add_list_diagonal(const Model& m, const LinearizedFamily& lk, const LinearizedFamily& ld,
+                         double h);
 
   Eigen::SparseMatrix<double> m_a;
   Eigen::Matrix<double, 3, Eigen::Dynamic> m_blocks;

@@ -19,10 +19,10 @@ enum class NewtonMethod {
 /// Which linear solver implicit Euler uses for each Newton system.
 enum class LinearSolver {
   automatic,        ///< linearized: cg; line-search: block-jacobi-cg, two-level-cg from 48 x 48
-                    ///< particles (fastest measured, README)
+                    ///< particles on a grid (fastest measured, README)
   cg,               ///< conjugate gradient, Jacobi (diagonal) preconditioner
   block_jacobi_cg,  ///< conjugate gradient, 3 by 3 block-Jacobi preconditioner (assembled matrix)
-  two_level_cg,     ///< block-Jacobi plus a coarse-grid correction (coarse_grid.hpp)
+  two_level_cg,     ///< block-Jacobi plus a coarse-grid correction (coarse_grid.hpp); grids only
   ldlt              ///< sparse direct LDL^T (Eigen SimplicialLDLT), symbolic factorisation reused
 };
 
