@@ -140,7 +140,11 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
                                                   "contacts",
                                                   "contact_fx",
                                                   "contact_fy",
-                                                  "contact_fz"});
+                                                  "contact_fz",
+                                                  "max_stretch",
+                                                  "max_compression",
+                                                  "self_intersections",
+                                                  "min_self_distance"});
   std::map<std::string, int> rows_per_engine;
   double e0 = 0, rk4_worst = 0;
   for (size_t r = 0; r < frames.rows.size(); ++r) {

@@ -35,6 +35,7 @@ std::set<KeyId> accepted_keys() {
   add("", kTopKeys);
   add("cloth", kClothKeys);
   add("cloth.stiffness", kStiffnessKeys);
+  add("cloth.generate", kGenerateKeys);
   add("constraint", kConstraintKeys);
   add("handle", kHandleKeys);
   add("sphere", kSphereKeys);
@@ -92,6 +93,24 @@ kind = "bullet-softbody"
 dt = 1e-3
 )";
 
+/// The same with a generated mesh for its cloth, for the keys of [cloth.generate].
+const char* const kEverythingMesh = R"(
+name = "everything-mesh"
+duration = 0.02
+frame_interval = 0.01
+[cloth]
+areal_density = 0.2
+stiffness = { structural = 100.0, bend = 10.0 }
+[cloth.generate]
+shape = "disk"
+radius = 0.1
+edge_length = 0.05
+[[engine]]
+name = "custom"
+kind = "custom"
+dt = 1e-3
+)";
+
 /// The --set key of a row in kEverything: "sphere.0.radius", "engine.custom.dt".
 std::string override_key(const ScenarioKey& k) {
   if (k.table == "engine") return "engine." + (k.kind.empty() ? "custom" : k.kind) + "." + k.key;
@@ -138,6 +157,7 @@ TEST_CASE("schema: the ranges in the table are the ones the loader enforces", "[
   // every engine's keys are read; only the custom engine must model the scene
   const std::vector<std::string> only = {"custom"};
   REQUIRE_NOTHROW(parse_scenario(kEverything, "everything.toml", {}, only));
+  REQUIRE_NOTHROW(parse_scenario(kEverythingMesh, "everything-mesh.toml", {}, only));
   int checked = 0;
   for (const ScenarioKey& k : scenario_keys()) {
     std::string value;
@@ -149,7 +169,14 @@ TEST_CASE("schema: the ranges in the table are the ones the loader enforces", "[
     const std::string set = override_key(k) + "=" + value;
     INFO("--set " << set << " (schema range: " << k.range << ")");
     // refused, naming the key, with the range the table states
-    CHECK_THROWS_WITH(parse_scenario(kEverything, "everything.toml", {set}, only),
+    const char* text = k.table == "cloth.generate" ? kEverythingMesh : kEverything;
+    // a shape's own size keys are read for that shape only
+    std::vector<std::string> sets = {set};
+    if (k.path() == "cloth.generate.inner_radius")
+      sets.insert(sets.begin(), "cloth.generate.shape=\"annulus\"");
+    if (k.path() == "cloth.generate.length")
+      sets.insert(sets.begin(), "cloth.generate.shape=\"tube\"");
+    CHECK_THROWS_WITH(parse_scenario(text, "everything.toml", sets, only),
                       Contains("--set " + override_key(k)) && Contains(k.range));
     ++checked;
   }

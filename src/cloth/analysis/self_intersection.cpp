@@ -405,7 +405,7 @@ SelfIntersection SelfIntersectionMeter::measure(const Matrix3X& x,
            crossing_triangles};
   // cells: the cutoff or the median edge length, whichever is larger (finite in any case)
   Grid& g = s.grid;
-  g.h = 2.0 * std::max(m_cutoff, median_edge_length(m_edges, x));
+  g.h = 1.5 * std::max(m_cutoff, median_edge_length(m_edges, x));
   if (!std::isfinite(g.h)) g.h = std::numeric_limits<double>::max();
   const std::size_t tri_count = m_triangles.size();
   std::size_t table = 1;

@@ -14,8 +14,8 @@
 /// vertex is within distance 2 of one of the triangle's vertices, an edge-edge pair when an
 /// endpoint of one is within distance 2 of an endpoint of the other), capped at the cutoff.
 ///
-/// Cost: a uniform spatial hash of the triangles' boxes, with cells twice the cutoff or twice
-/// the median current edge length (the median, so a few blown-up edges do not coarsen it),
+/// Cost: a uniform spatial hash of the triangles' boxes, with cells 1.5 times the cutoff or
+/// 1.5 times the median current edge length (the median, so a few blown-up edges do not coarsen it),
 /// addressed by hashing cell coordinates into a table of about twice the triangle count, so
 /// memory does not depend on the coordinates. A box spanning more than kMaxCellsPerBox cells is
 /// not hashed: such a triangle is checked by every query, and such a query checks every
@@ -52,7 +52,7 @@ struct SelfIntersection {
 class SelfIntersectionMeter {
  public:
   /// triangles over vertex_count vertices; cutoff (m) > 0 caps min_distance (the harness passes
-  /// the mean rest edge length). Precomputes the unique edges and the 2-ring exclusion.
+  /// half the mean rest edge length). Precomputes the unique edges and the 2-ring exclusion.
   /// Throws std::invalid_argument on an index out of range, a triangle repeating a vertex or a
   /// cutoff that is not positive and finite.
   SelfIntersectionMeter(int vertex_count, std::vector<Triangle> triangles, double cutoff);

@@ -105,7 +105,7 @@ std::vector<OutputFile> run_files() {
          "(exact predicates; touching is not crossing); empty when a position is not finite"},
         {"min_self_distance", "m",
          "smallest vertex-triangle or edge-edge distance between parts more than two rings "
-         "apart, capped at the mean rest edge length; empty when a position is not finite"}}}};
+         "apart, capped at half the mean rest edge length; empty when a position is not finite"}}}};
 }
 
 // the run's comparisons: each engine against the reference, its shapes, the attribution

@@ -43,7 +43,7 @@ struct FrameMetrics {
   double max_compression = 0;    // largest 1 - l / l0 > 0 of the same springs
   int self_intersections = -1;   // edge-triangle crossings of the cloth with itself; -1: unknown
   double min_self_distance = NAN;  // m, smallest gap between parts more than two rings apart,
-                                   // capped at the mean rest edge length; NaN: unknown
+                                   // capped at half the mean rest edge length; NaN: unknown
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  // m, mass-weighted centre
   double min_y = 0;                               // m, lowest particle height
   double max_penetration = 0;                     // m, deepest particle below a collider's surface
@@ -72,8 +72,8 @@ constexpr int kShadowResolution = 512;
 double shadow_area(const cloth::Model& model, const Eigen::Vector3d& gravity,
                    const cloth::Matrix3X& x);
 
-/// The self-intersection meter of a model's triangles, its distances capped at the mean rest
-/// edge length.
+/// The self-intersection meter of a model's triangles, its distances capped at half the mean
+/// rest edge length.
 cloth::SelfIntersectionMeter self_intersection_meter(const cloth::Model& model);
 
 /// Metrics of state (x, v) at time t; e0 is the initial total energy. With a meter (see

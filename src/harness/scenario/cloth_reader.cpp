@@ -104,8 +104,8 @@ cloth::ShapeSpec read_shape(const Reader& r, const toml::table& t) {
   for (const char* key : {"radius", "inner_radius", "size", "length"})
     if (const toml::node* n = t.get(key); n && !contains(own, key))
       r.fail(n, at.key(key), "applies to other shapes, not to shape = " + toml_string(name));
-  for (const std::string& key : own)
-    if (!t.get(key)) r.fail(&t, at.key(key), "shape = " + toml_string(name) + " needs " + key);
+  for (std::string_view key : own)
+    if (!t.get(key)) r.fail(&t, at.key(key), "shape = " + toml_string(name) + " needs " + std::string(key));
   s.radius = r.number(at, "radius", s.radius, kLength);
   s.inner_radius = r.number(at, "inner_radius", s.inner_radius, kLength);
   const auto size = r.number_pair(at, "size", {s.size_u, s.size_v}, kLength);
@@ -165,7 +165,7 @@ void read_cloth(const Reader& r, const toml::table* table, Scenario& s) {
            "expected mesh = \"file.obj\" or a [cloth.generate] table, got both");
   if (mesh || gen) {
     // a mesh's vertices stand where its file (or its shape's centre and plane) puts them
-    for (const std::string& key : kGridOnlyKeys)
+    for (std::string_view key : kGridOnlyKeys)
       if (const toml::node* n = table->get(key))
         r.fail(n, at.key(key),
                std::string("applies to a grid, not to a mesh cloth (") +

@@ -46,6 +46,17 @@ struct EngineSpec {
   reference::BulletOptions bullet;  // kind = bullet-*
 };
 
+/// Where a mesh cloth comes from: an OBJ file (cloth.mesh) or a generated shape
+/// ([cloth.generate]); neither for a grid.
+struct MeshSource {
+  std::string file;        // cloth.mesh as written in the scenario
+  std::string path;        // the file's path, resolved against the scenario's folder
+  bool generated = false;  // [cloth.generate]
+  cloth::ShapeSpec shape;  // what [cloth.generate] asks for
+
+  bool any() const { return generated || !file.empty(); }
+};
+
 /// Everything a run needs; every key of the scenario file has a field here, and so has the
 /// one run setting of the command line that is not a key (max_run_seconds).
 struct Scenario {
@@ -80,15 +91,5 @@ struct Scenario {
 std::vector<std::uint8_t> held_mask(const cloth::Scene& scene,
                                     const std::vector<ConstraintSpec>& constraints);
 
-/// Where a mesh cloth comes from: an OBJ file (cloth.mesh) or a generated shape
-/// ([cloth.generate]); neither for a grid.
-struct MeshSource {
-  std::string file;        // cloth.mesh as written in the scenario
-  std::string path;        // the file's path, resolved against the scenario's folder
-  bool generated = false;  // [cloth.generate]
-  cloth::ShapeSpec shape;  // what [cloth.generate] asks for
-
-  bool any() const { return generated || !file.empty(); }
-};
 
 }  // namespace clothbench

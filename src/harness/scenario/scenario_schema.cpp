@@ -159,7 +159,7 @@ void generate_keys(std::vector<ScenarioKey>& out) {
           "extent along the plane's two axes");
   r.number("length", "m", "none (tube)", kLength, "the tube's length along y");
   r.number("edge_length", "m", "none (required)", kLength, "target edge length of the triangles");
-  r.integer("seed", 1, 0, 2147483647, "the jitter's seed: the same seed gives the same mesh");
+  r.integer("seed", 1, 0, kNoMax, "the jitter's seed: the same seed gives the same mesh");
   r.vector("center", "m", g.center, "centre of the shape");
   r.choice("plane", quoted(plane_name(g.plane)), kPlanes,
            "disk, annulus, rectangle: xz horizontal, xy vertical");
