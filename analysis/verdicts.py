@@ -41,7 +41,7 @@ def _stability_lines(f, engines, duration):
                 lines.append(("ok", f"{e}: stable for the whole run{span}."))
             else:
                 when = f"at t = {num(t)} s" if _finite(t) else "(time unknown)"
-                lines.append(("bad", f"{e}: UNSTABLE, blew up {when}: the largest strain passed "
+                lines.append(("bad", f"{e}: UNSTABLE, blew up {when}: the largest stretch passed "
                               f"{num(f.blowup_strain())} or a coordinate became non-finite; its "
                               f"results stop there."))
     return lines

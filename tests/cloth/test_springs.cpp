@@ -193,3 +193,35 @@ TEST_CASE("the one-pass Newton product equals the stiffness and damping products
   CHECK((fused - g.v).norm() > 0.0);
   CHECK((fused - split).norm() <= 1e-13 * (split - g.v).norm());
 }
+
+TEST_CASE("the blow-up test reads stretch: a fold is no blow-up, an overstretched edge is",
+          "[springs]") {
+  // a 5 x 1 strip along x, 1 m spacing: structural springs 1 m, bend springs 2 m
+  Scene s = clothbench::test::small_cloth(5, 100.0, 0.0);
+  s.cloth.nv = 1;
+  s.cloth.size_u = 4.0;
+  s.held.clear();
+  const Model m = build_model(s);
+  Matrix3X x = m.x0;
+  SECTION("folded in half: the bend spring across the fold closes to nearly nothing") {
+    // particles 3 and 4 folded back over 1 and 2, 1 mm above them
+    x.col(3) = m.x0.col(1) + Vector3(0, 1e-3, 0);
+    x.col(4) = m.x0.col(0) + Vector3(0, 1e-3, 0);
+    // the bend spring 2-4 now spans 2 m -> 2 m, 1-3 spans 1e-3 m of its 2 m: |strain| ~ 1
+    CHECK_FALSE(within_strain(m.springs, x, 0.9));
+    CHECK(within_stretch(m.springs, x, 0.9));
+    const StrainStats st = strain_stats(m.springs, x);
+    CHECK(st.max_abs == Approx(1.0 - 1e-3 / 2.0));
+    CHECK(st.max_stretch < 1e-6);
+  }
+  SECTION("one structural spring stretched to 2.5 times its length") {
+    x.col(4).x() += 1.5;
+    CHECK_FALSE(within_stretch(m.springs, x, 1.0));
+    CHECK(within_stretch(m.springs, x, 1.6));
+    CHECK(strain_stats(m.springs, x).max_stretch == Approx(1.5));
+  }
+  SECTION("a non-finite coordinate fails") {
+    x(1, 2) = std::numeric_limits<double>::quiet_NaN();
+    CHECK_FALSE(within_stretch(m.springs, x, 1.0));
+  }
+}

@@ -257,4 +257,34 @@ bool within_strain(const SpringSet& springs, const Matrix3X& x, double limit) {
   return bad == 0 && x.allFinite();
 }
 
+bool within_stretch(const SpringSet& springs, const Matrix3X& x, double limit) {
+  // |d| / l0 - 1 <= limit  <=>  |d|^2 <= (1 + limit)^2 l0^2; written so that a NaN fails
+  const double hi = (1.0 + limit) * (1.0 + limit);
+  const double* __restrict X = x.row(0).data();
+  const double* __restrict Y = x.row(1).data();
+  const double* __restrict Z = x.row(2).data();
+  int bad = 0;
+  for (const SpringFamily& fam : springs.families) {
+    if (fam.kind == SpringKind::bend) continue;
+    const int o = fam.offset, m = fam.slots();
+    const double* __restrict mask = fam.mask.data();
+    const double* __restrict rest = fam.rest.data();
+#pragma omp simd reduction(+ : bad)
+    for (int p = 0; p < m; ++p) {
+      const double dx = X[p + o] - X[p], dy = Y[p + o] - Y[p], dz = Z[p + o] - Z[p];
+      const double d2 = dx * dx + dy * dy + dz * dz;
+      bad += (mask[p] != 0.0 && !(d2 <= hi * rest[p] * rest[p])) ? 1 : 0;
+    }
+  }
+  const SpringList& l = springs.list;
+  for (int i = 0; i < l.size(); ++i) {
+    if (l.kind[size_t(i)] == SpringKind::bend) continue;
+    const int a = l.a[size_t(i)], b = l.b[size_t(i)];
+    const double dx = X[b] - X[a], dy = Y[b] - Y[a], dz = Z[b] - Z[a];
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    bad += d2 <= hi * l.rest[size_t(i)] * l.rest[size_t(i)] ? 0 : 1;
+  }
+  return bad == 0 && x.allFinite();
+}
+
 }  // namespace cloth

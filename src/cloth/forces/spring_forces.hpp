@@ -49,4 +49,11 @@ namespace cloth {
 /// @param x  3 by #P positions (m)
 bool within_strain(const SpringSet& springs, const Matrix3X& x, double limit);
 
+/// True when every coordinate is finite and no structural or shear spring (no edge spring of a
+/// mesh) is stretched past limit: l / l0 - 1 <= limit. Bend springs and compression are left
+/// out: a fold closes the bend springs across it to nearly zero length, which is no blow-up.
+/// Squared lengths only, like within_strain.
+/// @param x  3 by #P positions (m)
+bool within_stretch(const SpringSet& springs, const Matrix3X& x, double limit);
+
 }  // namespace cloth

@@ -172,7 +172,7 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
       const auto t0 = std::chrono::steady_clock::now();
       sim->step(spec.dt);
       run.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      if (!cloth::within_strain(model.springs, sim->positions(), sc.blowup_strain)) {
+      if (!cloth::within_stretch(model.springs, sim->positions(), sc.blowup_strain)) {
         fail(sim->positions().allFinite() ? "strain" : "non-finite");
         break;
       }

@@ -60,7 +60,9 @@ struct Interrupted : std::runtime_error {
 };
 
 /// Runs one engine of sc over the scenario's duration, logging a frame every frame_interval.
-/// Stops at the first step where a coordinate is not finite or |strain| > blowup_strain, or
+/// Stops at the first step where a coordinate is not finite or a structural or shear spring's
+/// stretch l / l0 - 1 > blowup_strain (bend springs and compression left out: a fold is no
+/// blow-up), or
 /// at the first energy check (every frame, and at least every kEnergyCheckInterval of
 /// simulated time) where the energy error exceeds blowup_energy times the EnergyScale, or
 /// once the run has taken sc.max_run_seconds of wall clock (when > 0): a timeout.

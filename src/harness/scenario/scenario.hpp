@@ -68,7 +68,8 @@ struct Scenario {
   double snapshot_interval = 0.0;    // s between full-shape snapshots; 0: initial and final only
   double animation_interval = 0.03;  // s between trajectory frames, a whole number of frames
                                      // (default 1/30 s rounded so); 0: no trajectory
-  double blowup_strain = 1.0;        // a run is unstable once |strain| exceeds this
+  double blowup_strain = 1.0;        // a run is unstable once a non-bend spring's stretch
+                                     // l / l0 - 1 exceeds this
   double blowup_energy = 0.1;        // ... or once the energy error exceeds this times the
                                      // run's EnergyScale (see metrics.hpp)
   std::string reference;             // engine the others are compared against ("" = the first)

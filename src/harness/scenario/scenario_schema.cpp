@@ -124,7 +124,8 @@ void top_keys(std::vector<ScenarioKey>& out) {
            "time between trajectory frames, 0 or a whole multiple of frame_interval; 0: no "
            "trajectory");
   r.number("blowup_strain", "1", s.blowup_strain, kPositive,
-           "a run is unstable once a spring's |l / l0 - 1| exceeds this");
+           "a run is unstable once a structural or shear spring (a mesh's edge spring) stretches "
+           "past this: l / l0 - 1 > blowup_strain");
   r.number("blowup_energy", "1", s.blowup_energy, kPositive,
            "a run is unstable once its energy error exceeds this times the run's energy scale");
   r.other("reference", "string", "", "the first engine", "an engine's name",
