@@ -73,6 +73,12 @@ def expected_images(*folders):
             path = os.path.join(folder, name)
             if os.path.exists(path) and has_rows(path):
                 stems += [s for s in images if s not in stems]
+        # frames.csv written since self-intersection is measured has the self-contact plot too
+        frames = os.path.join(folder, "frames.csv")
+        if os.path.exists(frames) and has_rows(frames) and "self_contact" not in stems:
+            with open(frames, encoding="utf-8") as f:
+                if "self_intersections" in f.readline().strip().split(","):
+                    stems.append("self_contact")
     return stems
 
 

@@ -23,8 +23,9 @@ int execute_list() {
     try {
       const Scenario sc = load_scenario(f.string());
       const std::string cloth =
-          sc.scene.mesh ? std::to_string(sc.scene.particle_count()) + "-vertex mesh"
-                        : std::to_string(sc.scene.cloth.nu) + "x" + std::to_string(sc.scene.cloth.nv);
+          sc.scene.mesh
+              ? std::to_string(sc.scene.particle_count()) + "-vertex mesh"
+              : std::to_string(sc.scene.cloth.nu) + "x" + std::to_string(sc.scene.cloth.nv);
       std::cout << "  " << sc.name << "  " << cloth << ", " << sc.engines.size()
                 << " engines: " << sc.description << '\n';
     } catch (const std::exception& e) {

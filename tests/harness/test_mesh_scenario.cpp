@@ -42,7 +42,8 @@ shape = "disk"
 radius = 0.1
 edge_length = 0.025
 center = [0.0, 1.0, 0.0]
-)" + extra + engines;
+)" + extra +
+         engines;
 }
 
 const char* const kCustomRk4 = R"(
@@ -106,8 +107,8 @@ TEST_CASE("a generated mesh: masses from its area, one spring per edge and inter
 
 TEST_CASE("total_mass spreads by area on a mesh, areal_density by size on a grid",
           "[mesh][scenario]") {
-  const Scenario sc = parse_scenario(disk_scenario(kCustomRk4), "disk.toml",
-                                     {"cloth.total_mass=0.5"});
+  const Scenario sc =
+      parse_scenario(disk_scenario(kCustomRk4), "disk.toml", {"cloth.total_mass=0.5"});
   CHECK(cloth::build_model(sc.scene).mass.sum() == Approx(0.5).epsilon(tol::kMeshAreaRelative));
   const Scenario grid = parse_scenario(R"(
 [cloth]
@@ -161,28 +162,30 @@ TEST_CASE("mesh selections: groups, vertex indices, balls and boxes", "[mesh][sc
   const fs::path skirt = kSource / "scenarios" / "meshes" / "skirt.obj";
   const std::string base = R"(
 [cloth]
-mesh = ")" + skirt.string() + R"("
+mesh = ")" + skirt.string() +
+                           R"("
 areal_density = 0.2
 stiffness = { structural = 50.0, bend = 5.0 }
 )" + std::string(kCustomRk4);
   SECTION("a group holds the vertices of its faces: the waistband's two rings") {
-    const Scenario sc = parse_scenario(base + "[[constraint]]\nselect = \"group\"\nname = \"waistband\"\n",
-                                       "skirt.toml");
+    const Scenario sc = parse_scenario(
+        base + "[[constraint]]\nselect = \"group\"\nname = \"waistband\"\n", "skirt.toml");
     int held = 0;
     for (std::uint8_t h : sc.scene.held) held += h != 0;
     CHECK(held == 72);  // 36 vertices a ring
   }
   SECTION("indices are 0-based vertex indices") {
-    const Scenario sc =
-        parse_scenario(base + "[[constraint]]\nselect = \"indices\"\nlist = [0, 575]\nhold = \"y\"\n",
-                       "skirt.toml");
+    const Scenario sc = parse_scenario(
+        base + "[[constraint]]\nselect = \"indices\"\nlist = [0, 575]\nhold = \"y\"\n",
+        "skirt.toml");
     CHECK(sc.scene.held[0] == cloth::kHoldY);
     CHECK(sc.scene.held[575] == cloth::kHoldY);
     CHECK(sc.scene.held[1] == 0);
   }
   SECTION("a box of rest positions: the top ring") {
     const Scenario sc = parse_scenario(
-        base + "[[constraint]]\nselect = \"box\"\nmin = [-1.0, 0.999, -1.0]\nmax = [1.0, 1.1, 1.0]\n",
+        base +
+            "[[constraint]]\nselect = \"box\"\nmin = [-1.0, 0.999, -1.0]\nmax = [1.0, 1.1, 1.0]\n",
         "skirt.toml");
     int held = 0;
     for (std::uint8_t h : sc.scene.held) held += h != 0;
@@ -216,18 +219,23 @@ TEST_CASE("mesh scenarios refuse what a mesh cannot have, naming the key", "[mes
              Contains("cloth.particles: applies to a grid, not to a mesh cloth"));
   CHECK_THAT(refusal(d, {"cloth.mesh=\"x.obj\""}),
              Contains("expected mesh = \"file.obj\" or a [cloth.generate] table, got both"));
-  CHECK_THAT(refusal(d, {"cloth.generate.edge_length=1e-5"}),
-             Contains("--set cloth.generate.edge_length: too small, the mesh would have more than"));
+  CHECK_THAT(
+      refusal(d, {"cloth.generate.edge_length=1e-5"}),
+      Contains("--set cloth.generate.edge_length: too small, the mesh would have more than"));
   CHECK_THAT(refusal(d, {"cloth.generate.shape=\"cone\""}), Contains("cloth.generate.shape"));
   CHECK_THAT(refusal(d, {"cloth.generate.length=0.3"}),
              Contains("cloth.generate.length: applies to other shapes"));
   CHECK_THAT(refusal(disk_scenario(kCustomRk4, "[[constraint]]\nselect = \"corners\"\n")),
              Contains("constraint.0.select: selects on a grid"));
-  CHECK_THAT(refusal(disk_scenario(kCustomRk4, "[[constraint]]\nselect = \"group\"\nname = \"rim\"\n")),
-             Contains("constraint.0.name: expected a group of the mesh (it has none)"));
-  CHECK_THAT(refusal(disk_scenario(kCustomRk4, "[[constraint]]\nselect = \"indices\"\nlist = [100000]\n")),
-             Contains("constraint.0.list.0: expected a vertex index from 0 to"));
-  CHECK_THAT(refusal(disk_scenario(kCustomRk4, "[[constraint]]\nselect = \"within\"\ncenter = [5.0, 5.0, 5.0]\nradius = 0.1\n")),
+  CHECK_THAT(
+      refusal(disk_scenario(kCustomRk4, "[[constraint]]\nselect = \"group\"\nname = \"rim\"\n")),
+      Contains("constraint.0.name: expected a group of the mesh (it has none)"));
+  CHECK_THAT(
+      refusal(disk_scenario(kCustomRk4, "[[constraint]]\nselect = \"indices\"\nlist = [100000]\n")),
+      Contains("constraint.0.list.0: expected a vertex index from 0 to"));
+  CHECK_THAT(refusal(disk_scenario(
+                 kCustomRk4,
+                 "[[constraint]]\nselect = \"within\"\ncenter = [5.0, 5.0, 5.0]\nradius = 0.1\n")),
              Contains("expected a ball that holds at least one particle's rest position"));
   // the mass: one way, and a mesh needs one
   CHECK_THAT(refusal(d, {"cloth.particle_mass=0.1"}),
@@ -244,8 +252,8 @@ TEST_CASE("a mesh file is read relative to the scenario file; a bad one names it
     std::ofstream bad(dir.path / "meshes" / "bad.obj");
     bad << "v 0 1 0\nv 1 1 0\nv 0 1 1\nf 1 2 3\nf 1 2 9\n";
   }
-  const std::string scenario = std::string("[cloth]\nmesh = \"meshes/tri.obj\"\ntotal_mass = 0.1\n") +
-                               kCustomRk4;
+  const std::string scenario =
+      std::string("[cloth]\nmesh = \"meshes/tri.obj\"\ntotal_mass = 0.1\n") + kCustomRk4;
   {
     std::ofstream f(dir.path / "s.toml");
     f << scenario;

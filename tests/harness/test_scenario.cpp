@@ -237,10 +237,9 @@ TEST_CASE("every shipped scenario loads, named after its file", "[scenario]") {
   std::vector<std::string> names;
   for (const fs::path& f : files) names.push_back(f.stem().string());
   CHECK(names == std::vector<std::string>{"curtain", "cusick_drape", "flag", "flag_wind",
-                                          "floor_drop", "free_fall", "garment",
-                                          "hanging_chain", "incline", "lift_corners",
-                                          "seed_sphere_drape", "sphere_sweep", "table",
-                                          "tablecloth", "towel_rail"});
+                                          "floor_drop", "free_fall", "garment", "hanging_chain",
+                                          "incline", "lift_corners", "seed_sphere_drape",
+                                          "sphere_sweep", "table", "tablecloth", "towel_rail"});
   for (const fs::path& file : files) {
     INFO(file.filename().string());
     const Scenario s = load_scenario(file.string());
@@ -554,8 +553,8 @@ TEST_CASE("held_mask selects corners, edges, disks and indices", "[scenario]") {
   CHECK(only(idx) == Pairs{{2, 1}, {1, 2}});
 
   SECTION("several constraints OR their axes") {
-    const auto mask =
-        held_mask(scene_of(c), {select("corners", cloth::kHoldX), select("edge:v0", cloth::kHoldY)});
+    const auto mask = held_mask(
+        scene_of(c), {select("corners", cloth::kHoldX), select("edge:v0", cloth::kHoldY)});
     CHECK(held_with(c, mask, cloth::kHoldX | cloth::kHoldY) == Pairs{{0, 0}, {3, 0}});
     CHECK(held_with(c, mask, cloth::kHoldX) == Pairs{{0, 2}, {3, 2}});
     CHECK(held_with(c, mask, cloth::kHoldY) == Pairs{{1, 0}, {2, 0}});
@@ -571,7 +570,8 @@ TEST_CASE("held_mask selects corners, edges, disks and indices", "[scenario]") {
     cloth::ClothParams v = grid(4, 3, cloth::Plane::xy);
     v.center = {0.0, 2.0, 5.0};
     disk.disk_center_z = 3.0;
-    CHECK(held_with(v, held_mask(scene_of(v), {disk}), cloth::kHoldY) == Pairs{{3, 1}, {2, 2}, {3, 2}});
+    CHECK(held_with(v, held_mask(scene_of(v), {disk}), cloth::kHoldY) ==
+          Pairs{{3, 1}, {2, 2}, {3, 2}});
     disk.disk_center_z = 1.0;
     disk.disk_radius = 0.5;
     CHECK(held_with(v, held_mask(scene_of(v), {disk}), cloth::kHoldY) == Pairs{{3, 0}});

@@ -34,7 +34,7 @@ def declared_errors(columns, schemas, page):
         if name not in columns:
             errors.append(f"csvio.SCHEMAS[{name!r}]: clothbench writes no such file")
             continue
-        for group in ("required", "text", "flags", "keys"):
+        for group in ("required", "text", "flags", "keys", "optional"):
             for c in getattr(s, group):
                 if c not in columns[name]:
                     errors.append(f"csvio.SCHEMAS[{name!r}].{group}: {c!r} is not a column of "
@@ -53,7 +53,7 @@ def declared_errors(columns, schemas, page):
 def undeclared_errors(columns, schemas, source):
     """Subscripted names that are output columns but declared in no SCHEMAS entry."""
     every_column = {c for cs in columns.values() for c in cs}
-    declared = {c for s in schemas.values() for c in s.required}
+    declared = {c for s in schemas.values() for c in list(s.required) + list(s.optional)}
     errors = []
     files = glob.glob(f"{source}/analysis/*.py") + glob.glob(f"{source}/analysis/plots/*.py")
     for path in sorted(files):

@@ -15,8 +15,8 @@
 /// endpoint of one is within distance 2 of an endpoint of the other), capped at the cutoff.
 ///
 /// Cost: a uniform spatial hash of the triangles' boxes, with cells 1.5 times the cutoff or
-/// 1.5 times the median current edge length (the median, so a few blown-up edges do not coarsen it),
-/// addressed by hashing cell coordinates into a table of about twice the triangle count, so
+/// 1.5 times the median current edge length (the median, so a few blown-up edges do not coarsen
+/// it), addressed by hashing cell coordinates into a table of about twice the triangle count, so
 /// memory does not depend on the coordinates. A box spanning more than kMaxCellsPerBox cells is
 /// not hashed: such a triangle is checked by every query, and such a query checks every
 /// triangle. Every bucket entry read and cell addressed is one unit of work; past

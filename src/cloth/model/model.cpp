@@ -69,14 +69,13 @@ VectorX particle_masses(const Scene& scene) {
   const int n = scene.particle_count();
   if (scene.mesh) {
     const double area = mesh_area(*scene.mesh);
-    const double density = c.areal_density > 0                ? c.areal_density
+    const double density = c.areal_density > 0            ? c.areal_density
                            : c.total_mass > 0 && area > 0 ? c.total_mass / area
-                                                              : 0.0;
+                                                          : 0.0;
     if (!(density > 0)) throw std::invalid_argument("a mesh needs areal_density or total_mass");
     return lumped_masses(*scene.mesh, density);
   }
-  const double total =
-      c.areal_density > 0 ? c.areal_density * c.size_u * c.size_v : c.total_mass;
+  const double total = c.areal_density > 0 ? c.areal_density * c.size_u * c.size_v : c.total_mass;
   const double pm = total > 0 ? total / n : c.particle_mass;
   if (!(pm > 0)) throw std::invalid_argument("particle mass must be positive");
   return VectorX::Constant(n, pm);
@@ -88,8 +87,8 @@ SpringSet mesh_springs(const ClothParams& c, const TriangleMesh& mesh) {
   SpringSet set;
   set.damping = c.damping;
   const auto add = [&](int a, int b, double k, SpringKind kind) {
-    set.list.push_back({std::min(a, b), std::max(a, b), (mesh.x.col(b) - mesh.x.col(a)).norm(), k,
-                        kind});
+    set.list.push_back(
+        {std::min(a, b), std::max(a, b), (mesh.x.col(b) - mesh.x.col(a)).norm(), k, kind});
   };
   if (c.k_structural > 0)
     for (const auto& [a, b] : e.edges) add(a, b, c.k_structural, SpringKind::structural);

@@ -12,16 +12,17 @@ namespace cloth {
 
 /// The discrete cloth every engine and every metric works from.
 struct Model {
-  int nu = 0;             // a grid's particles along u; a mesh's vertices
-  int nv = 0;             // a grid's particles along v; 1 for a mesh
-  bool is_mesh = false;   // a triangle mesh: its springs are a general list, not grid families
-  Matrix3X x0;       // 3 by #P initial (rest) positions (m)
-  VectorX mass;      // #P particle masses (kg)
-  VectorX inv_mass;  // #P inverse masses (1/kg)
-  Matrix3X free;     // 3 by #P: 1 where the axis moves, 0 where it is held
+  int nu = 0;            // a grid's particles along u; a mesh's vertices
+  int nv = 0;            // a grid's particles along v; 1 for a mesh
+  bool is_mesh = false;  // a triangle mesh: its springs are a general list, not grid families
+  Matrix3X x0;           // 3 by #P initial (rest) positions (m)
+  VectorX mass;          // #P particle masses (kg)
+  VectorX inv_mass;      // #P inverse masses (1/kg)
+  Matrix3X free;         // 3 by #P: 1 where the axis moves, 0 where it is held
   bool any_held = false;
   SpringSet springs;
-  std::vector<Triangle> triangles;  // the surface: grid cells split along a diagonal, or a mesh's faces
+  std::vector<Triangle>
+      triangles;  // the surface: grid cells split along a diagonal, or a mesh's faces
   Vector3 gravity = Vector3::Zero();  // m/s^2
   double air_drag = 0;                // N s/m
   Vector3 wind = Vector3::Zero();     // m/s

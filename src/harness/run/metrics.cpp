@@ -72,7 +72,8 @@ cloth::SelfIntersectionMeter self_intersection_meter(const cloth::Model& model) 
   // the mean rest length of the triangles' edges (each interior edge counted twice)
   double sum = 0;
   for (const cloth::Triangle& tri : model.triangles)
-    for (int k = 0; k < 3; ++k) sum += (model.x0.col(tri[(k + 1) % 3]) - model.x0.col(tri[k])).norm();
+    for (int k = 0; k < 3; ++k)
+      sum += (model.x0.col(tri[(k + 1) % 3]) - model.x0.col(tri[k])).norm();
   const double mean_edge = model.triangles.empty() ? 1.0 : sum / (3.0 * model.triangles.size());
   // half an edge: layers closer than that are near contact; a larger cap costs more to search
   return cloth::SelfIntersectionMeter(model.particle_count(), model.triangles,

@@ -28,20 +28,20 @@ inline double energy_error(double total, const EnergyBooks& books, double e0) {
 
 /// One row of frames.csv (without the engine name).
 struct FrameMetrics {
-  double t = 0;                  // s
-  double kinetic = 0;            // J
-  double gravity_potential = 0;  // J
-  double elastic_potential = 0;  // J
-  double dissipated = 0;         // J, taken out by dampers and drag so far
-  double contact_work = 0;       // J, net work of the contact response so far
-  double unbooked = 0;           // J, balance no book explains (Bullet contact steps)
-  double total_energy = 0;       // J, kinetic + both potentials
-  double energy_error = 0;       // J, total + dissipated - contact_work - unbooked - initial
-  double max_strain = 0;         // largest |l / l0 - 1|
-  double mean_strain = 0;        // mean |l / l0 - 1|
-  double max_stretch = 0;        // largest l / l0 - 1 > 0 of a structural, shear or edge spring
-  double max_compression = 0;    // largest 1 - l / l0 > 0 of the same springs
-  int self_intersections = -1;   // edge-triangle crossings of the cloth with itself; -1: unknown
+  double t = 0;                    // s
+  double kinetic = 0;              // J
+  double gravity_potential = 0;    // J
+  double elastic_potential = 0;    // J
+  double dissipated = 0;           // J, taken out by dampers and drag so far
+  double contact_work = 0;         // J, net work of the contact response so far
+  double unbooked = 0;             // J, balance no book explains (Bullet contact steps)
+  double total_energy = 0;         // J, kinetic + both potentials
+  double energy_error = 0;         // J, total + dissipated - contact_work - unbooked - initial
+  double max_strain = 0;           // largest |l / l0 - 1|
+  double mean_strain = 0;          // mean |l / l0 - 1|
+  double max_stretch = 0;          // largest l / l0 - 1 > 0 of a structural, shear or edge spring
+  double max_compression = 0;      // largest 1 - l / l0 > 0 of the same springs
+  int self_intersections = -1;     // edge-triangle crossings of the cloth with itself; -1: unknown
   double min_self_distance = NAN;  // m, smallest gap between parts more than two rings apart,
                                    // capped at half the mean rest edge length; NaN: unknown
   Eigen::Vector3d com = Eigen::Vector3d::Zero();  // m, mass-weighted centre

@@ -282,8 +282,8 @@ double final_drape_coefficient(const RunResult& result, const EngineRun& run) {
   }
   const cloth::Scene& scene = result.scenario.scene;
   const double support = support_area(disks, scene.spheres, horizontal, scene.shapes.cylinders);
-  const double cloth_area = scene.mesh ? cloth::mesh_area(*scene.mesh)
-                                       : scene.cloth.size_u * scene.cloth.size_v;
+  const double cloth_area =
+      scene.mesh ? cloth::mesh_area(*scene.mesh) : scene.cloth.size_u * scene.cloth.size_v;
   if (support <= 0 || cloth_area <= support || run.frames.empty())
     return std::numeric_limits<double>::quiet_NaN();
   return drape_coefficient(run.frames.back().shadow_area, support, cloth_area);

@@ -174,8 +174,7 @@ std::string index_json(const RunResult& result, const Grid& g,
   std::ostringstream o;
   o << "{\n  \"format\": 1,\n  \"interval\": " << format_double(sc.animation_interval)
     << ",\n  \"frames\": " << g.frames << ",\n  \"particles\": " << result.model.particle_count()
-    << ",\n  \"grid\": [" << result.model.nu << ", " << result.model.nv
-    << "],\n  \"spacing\": ["
+    << ",\n  \"grid\": [" << result.model.nu << ", " << result.model.nv << "],\n  \"spacing\": ["
     << format_double(!result.model.is_mesh && c.nu > 1 ? c.size_u / (c.nu - 1) : 0) << ", "
     << format_double(!result.model.is_mesh && c.nv > 1 ? c.size_v / (c.nv - 1) : 0)
     << "],\n  \"springs\": " << springs_json(c, result.model.is_mesh)

@@ -1,8 +1,10 @@
 #include "harness/scenario/cloth_reader.hpp"
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 
+#include "cloth/analysis/self_intersection.hpp"
 #include "cloth/model/mesh_generator.hpp"
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/scenario/obj_reader.hpp"
@@ -51,9 +53,8 @@ void read_mass(const Reader& r, const At& at, bool mesh, cloth::ClothParams& c) 
   const toml::node* tm = at.table.get("total_mass");
   const toml::node* ad = at.table.get("areal_density");
   if ((pm != nullptr) + (tm != nullptr) + (ad != nullptr) > 1) {
-    const auto [n, key] = blame({{ad, "cloth.areal_density"},
-                                 {tm, "cloth.total_mass"},
-                                 {pm, "cloth.particle_mass"}});
+    const auto [n, key] =
+        blame({{ad, "cloth.areal_density"}, {tm, "cloth.total_mass"}, {pm, "cloth.particle_mass"}});
     r.fail(n, key,
            "expected one of particle_mass, total_mass and areal_density, got more (give the "
            "mass one way only)");
@@ -105,7 +106,8 @@ cloth::ShapeSpec read_shape(const Reader& r, const toml::table& t) {
     if (const toml::node* n = t.get(key); n && !contains(own, key))
       r.fail(n, at.key(key), "applies to other shapes, not to shape = " + toml_string(name));
   for (std::string_view key : own)
-    if (!t.get(key)) r.fail(&t, at.key(key), "shape = " + toml_string(name) + " needs " + std::string(key));
+    if (!t.get(key))
+      r.fail(&t, at.key(key), "shape = " + toml_string(name) + " needs " + std::string(key));
   s.radius = r.number(at, "radius", s.radius, kLength);
   s.inner_radius = r.number(at, "inner_radius", s.inner_radius, kLength);
   const auto size = r.number_pair(at, "size", {s.size_u, s.size_v}, kLength);
@@ -121,6 +123,23 @@ cloth::ShapeSpec read_shape(const Reader& r, const toml::table& t) {
   return s;
 }
 
+/// A warning when the mesh's rest shape already crosses itself (frames.csv counts those
+/// crossings from frame 0 on).
+void warn_rest_crossings(const cloth::TriangleMesh& mesh, Scenario& s) {
+  // half the mean edge as the distance cap, as the runs use (the cells follow it)
+  double sum = 0;
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) sum += (mesh.x.col(t[(k + 1) % 3]) - mesh.x.col(t[k])).norm();
+  const double cutoff = mesh.triangles.empty() ? 1.0 : sum / (6.0 * mesh.triangles.size());
+  if (!(cutoff > 0) || !std::isfinite(cutoff)) return;
+  const cloth::SelfIntersection si =
+      cloth::SelfIntersectionMeter(mesh.vertex_count(), mesh.triangles, cutoff).measure(mesh.x);
+  if (si.crossings > 0)
+    s.warnings.push_back(s.mesh.path + ": the rest shape crosses itself (" +
+                         std::to_string(si.crossings) +
+                         " edge-triangle crossings); frames.csv counts them from frame 0");
+}
+
 /// The mesh cloth.mesh names, resolved against the scenario file's folder.
 std::shared_ptr<const cloth::TriangleMesh> read_mesh_file(const Reader& r, const At& at,
                                                           Scenario& s) {
@@ -129,9 +148,11 @@ std::shared_ptr<const cloth::TriangleMesh> read_mesh_file(const Reader& r, const
   namespace fs = std::filesystem;
   const fs::path file(s.mesh.file);
   const fs::path base = fs::path(s.source).parent_path();
-  s.mesh.path = (file.is_absolute() || base.empty() ? file : base / file).lexically_normal().string();
+  s.mesh.path =
+      (file.is_absolute() || base.empty() ? file : base / file).lexically_normal().string();
   ObjFile obj = read_obj_file(s.mesh.path);
   for (std::string& w : obj.warnings) s.warnings.push_back(std::move(w));
+  warn_rest_crossings(obj.mesh, s);
   return std::make_shared<const cloth::TriangleMesh>(std::move(obj.mesh));
 }
 
@@ -169,8 +190,9 @@ void read_cloth(const Reader& r, const toml::table* table, Scenario& s) {
       if (const toml::node* n = table->get(key))
         r.fail(n, at.key(key),
                std::string("applies to a grid, not to a mesh cloth (") +
-                   (mesh ? "the vertices stand where the OBJ file puts them" :
-                           "give center and plane in [cloth.generate]") + ")");
+                   (mesh ? "the vertices stand where the OBJ file puts them"
+                         : "give center and plane in [cloth.generate]") +
+                   ")");
     s.scene.mesh = mesh ? read_mesh_file(r, at, s) : generate(r, *r.table(at, "generate"), s);
   } else {
     read_grid_shape(r, at, c);

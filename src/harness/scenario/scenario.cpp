@@ -47,9 +47,9 @@ void hold_on_grid(const cloth::ClothParams& cloth, const cloth::Matrix3X& x,
   } else if (s == "indices") {
     for (const auto& [i, j] : c.indices) {
       if (i < 0 || i >= nu || j < 0 || j >= nv)
-        throw std::invalid_argument("grid index (" + std::to_string(i) + ", " +
-                                    std::to_string(j) + ") is outside the " + std::to_string(nu) +
-                                    " x " + std::to_string(nv) + " grid");
+        throw std::invalid_argument("grid index (" + std::to_string(i) + ", " + std::to_string(j) +
+                                    ") is outside the " + std::to_string(nu) + " x " +
+                                    std::to_string(nv) + " grid");
       hold(i, j);
     }
   } else {
@@ -71,8 +71,9 @@ void hold_on_mesh(const cloth::TriangleMesh& mesh, const ConstraintSpec& c,
   if (c.select == "indices") {
     for (int p : c.vertices) {
       if (p < 0 || p >= static_cast<int>(mask.size()))
-        throw std::invalid_argument("vertex index " + std::to_string(p) + " is outside the mesh's " +
-                                    std::to_string(mask.size()) + " vertices");
+        throw std::invalid_argument("vertex index " + std::to_string(p) +
+                                    " is outside the mesh's " + std::to_string(mask.size()) +
+                                    " vertices");
       mask[static_cast<size_t>(p)] |= c.hold;
     }
     return;
@@ -88,10 +89,9 @@ bool hold_in_space(const cloth::Matrix3X& x, const ConstraintSpec& c,
   const double r2 = c.disk_radius * c.disk_radius * (1.0 + 1e-12);
   for (Eigen::Index p = 0; p < x.cols(); ++p) {
     const cloth::Vector3 q = x.col(p);
-    const bool in = c.select == "within"
-                        ? (q - c.center).squaredNorm() <= r2
-                        : (q.array() >= c.box_min.array()).all() &&
-                              (q.array() <= c.box_max.array()).all();
+    const bool in = c.select == "within" ? (q - c.center).squaredNorm() <= r2
+                                         : (q.array() >= c.box_min.array()).all() &&
+                                               (q.array() <= c.box_max.array()).all();
     if (in) mask[static_cast<size_t>(p)] |= c.hold;
   }
   return true;

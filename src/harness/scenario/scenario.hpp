@@ -17,12 +17,12 @@ namespace clothbench {
 /// Which particles a constraint holds. A grid selects corners, edges, a disk, (i, j) indices,
 /// a ball (within) or a box; a mesh a named vertex group, vertex indices, a ball or a box.
 struct ConstraintSpec {
-  std::string select = "corners";  // corners | edge:u0 | edge:u1 | edge:v0 | edge:v1 | disk |
-                                   // indices | group | within | box
-  std::uint8_t hold = cloth::kHoldAll;       // held axes (cloth::AxisBits)
-  double disk_center_x = 0.0;                // m, select = "disk": centre in the cloth plane's
-  double disk_center_z = 0.0;                // m   first and second world axes (x, z) or (x, y)
-  double disk_radius = 0.0;                  // m, select = "disk" or "within"
+  std::string select = "corners";       // corners | edge:u0 | edge:u1 | edge:v0 | edge:v1 | disk |
+                                        // indices | group | within | box
+  std::uint8_t hold = cloth::kHoldAll;  // held axes (cloth::AxisBits)
+  double disk_center_x = 0.0;           // m, select = "disk": centre in the cloth plane's
+  double disk_center_z = 0.0;           // m   first and second world axes (x, z) or (x, y)
+  double disk_radius = 0.0;             // m, select = "disk" or "within"
   std::vector<std::pair<int, int>> indices;  // select = "indices" on a grid: (i, j) pairs
   std::vector<int> vertices;                 // select = "indices" on a mesh: 0-based, file order
   std::string group;                         // select = "group": the mesh's group name
@@ -62,19 +62,19 @@ struct MeshSource {
 struct Scenario {
   std::string name = "scenario";
   std::string description;
-  std::string source;                // file it came from, or "<embedded>"
-  double duration = 1.0;             // s
-  double frame_interval = 0.01;      // s between metric rows
-  double snapshot_interval = 0.0;    // s between full-shape snapshots; 0: initial and final only
-  double animation_interval = 0.03;  // s between trajectory frames, a whole number of frames
-                                     // (default 1/30 s rounded so); 0: no trajectory
-  double blowup_strain = 1.0;        // a run is unstable once a non-bend spring's stretch
-                                     // l / l0 - 1 exceeds this
-  double blowup_energy = 0.1;        // ... or once the energy error exceeds this times the
-                                     // run's EnergyScale (see metrics.hpp)
-  std::string reference;             // engine the others are compared against ("" = the first)
-  cloth::Scene scene;                // scene.held is filled from constraints
-  MeshSource mesh;                   // where scene.mesh came from
+  std::string source;                 // file it came from, or "<embedded>"
+  double duration = 1.0;              // s
+  double frame_interval = 0.01;       // s between metric rows
+  double snapshot_interval = 0.0;     // s between full-shape snapshots; 0: initial and final only
+  double animation_interval = 0.03;   // s between trajectory frames, a whole number of frames
+                                      // (default 1/30 s rounded so); 0: no trajectory
+  double blowup_strain = 1.0;         // a run is unstable once a non-bend spring's stretch
+                                      // l / l0 - 1 exceeds this
+  double blowup_energy = 0.1;         // ... or once the energy error exceeds this times the
+                                      // run's EnergyScale (see metrics.hpp)
+  std::string reference;              // engine the others are compared against ("" = the first)
+  cloth::Scene scene;                 // scene.held is filled from constraints
+  MeshSource mesh;                    // where scene.mesh came from
   std::vector<std::string> warnings;  // what loading noticed but accepted (an unused vertex)
   std::vector<ConstraintSpec> constraints;
   std::vector<HandleSpec> handles;  // scene.handles is filled from these
@@ -91,6 +91,5 @@ struct Scenario {
 /// Throws std::invalid_argument for a selection outside the grid or the mesh.
 std::vector<std::uint8_t> held_mask(const cloth::Scene& scene,
                                     const std::vector<ConstraintSpec>& constraints);
-
 
 }  // namespace clothbench

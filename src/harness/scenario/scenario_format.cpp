@@ -30,10 +30,10 @@ const Keys kTopKeys = {"name",
                        "capsule",
                        "cylinder",
                        "handle"};
-const Keys kClothKeys = {"particles", "size",          "center",    "plane",   "particle_mass",
-                         "total_mass", "areal_density", "stiffness", "damping", "air_drag",
-                         "mesh",      "generate"};
-const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size",  "length",
+const Keys kClothKeys = {"particles",     "size",       "center",        "plane",
+                         "particle_mass", "total_mass", "areal_density", "stiffness",
+                         "damping",       "air_drag",   "mesh",          "generate"};
+const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size", "length",
                             "edge_length", "seed",   "center",       "plane"};
 const Keys kStiffnessKeys = {"structural", "shear", "bend"};
 const Keys kConstraintKeys = {"select", "hold", "center", "radius", "list", "name", "min", "max"};
@@ -61,8 +61,8 @@ Keys names_of(const std::vector<Value>& values, Name name) {
 
 const Keys kPlanes =
     names_of(std::vector<cloth::Plane>{cloth::Plane::xz, cloth::Plane::xy}, plane_name);
-const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1", "disk",
-                          "indices", "group",   "within",  "box"};
+const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1",
+                          "disk",    "indices", "group",   "within",  "box"};
 const Keys kShapes = names_of(cloth::all_mesh_shapes(), cloth::mesh_shape_name);
 const Keys kSoftbodyStiffness =
     names_of(reference::all_softbody_stiffnesses(), reference::softbody_stiffness_name);

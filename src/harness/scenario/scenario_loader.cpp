@@ -346,10 +346,10 @@ void read_handles(const Reader& r, const toml::table& root, Scenario& s) {
     const std::vector<std::uint8_t> mask = held_mask(s.scene, {h.select});
     for (size_t p = 0; p < mask.size(); ++p) {
       if (!mask[p]) continue;
-      const std::string which =
-          s.scene.mesh ? "vertex " + std::to_string(p)
-                       : "particle (" + std::to_string(p % size_t(s.scene.cloth.nu)) + ", " +
-                             std::to_string(p / size_t(s.scene.cloth.nu)) + ")";
+      const std::string which = s.scene.mesh
+                                    ? "vertex " + std::to_string(p)
+                                    : "particle (" + std::to_string(p % size_t(s.scene.cloth.nu)) +
+                                          ", " + std::to_string(p / size_t(s.scene.cloth.nu)) + ")";
       const toml::node* blame_at = tables[k]->get("select") ? tables[k]->get("select") : tables[k];
       for (size_t c = 0; c < s.constraints.size(); ++c)
         if (held_by[c][p])
@@ -379,9 +379,8 @@ void read_scene(const Reader& r, const toml::table& root, Scenario& s) {
            "expected cloth.air_drag > 0 with a wind (without air drag the wind does nothing)");
   const auto constraints = r.tables(at, "constraint");
   for (size_t k = 0; k < constraints.size(); ++k)
-    s.constraints.push_back(
-        read_selection(r, *constraints[k], "constraint." + std::to_string(k), s.scene,
-                       kConstraintKeys));
+    s.constraints.push_back(read_selection(r, *constraints[k], "constraint." + std::to_string(k),
+                                           s.scene, kConstraintKeys));
   s.scene.held = held_mask(s.scene, s.constraints);
   read_handles(r, root, s);
   s.scene.spheres = read_all<cloth::Sphere>(r, root, "sphere", read_sphere);

@@ -118,6 +118,75 @@ std::optional<Keys> entry_keys(const std::string& top) {
 
 }  // namespace
 
+namespace {
+
+/// The error of a --set key that names no key of the table in.
+ScenarioError unknown_key(const std::string& where, const std::string& k, const Keys& known,
+                          const std::string& in) {
+  return ScenarioError(
+      where, "",
+      "unknown key " + toml_string(k) + (in.empty() ? "" : " in " + in) + suggest(k, known));
+}
+
+/// The error of a --set key that goes below a single value, at its depth-th part.
+ScenarioError single_value(const std::string& where, const std::vector<std::string>& part,
+                           size_t depth) {
+  std::string k = part[0];
+  for (size_t d = 1; d < depth; ++d) k += "." + part[d];
+  return ScenarioError(where, "", k + " is a single value, it has no keys");
+}
+
+/// The parts of a dotted --set key; throws for an empty part.
+std::vector<std::string> key_parts(const std::string& key, const std::string& where) {
+  std::vector<std::string> part;
+  for (size_t b = 0;;) {
+    const size_t e = key.find('.', b);
+    part.push_back(key.substr(b, e - b));
+    if (part.back().empty())
+      throw ScenarioError(where, "", "expected a dotted key such as cloth.damping");
+    if (e == std::string::npos) break;
+    b = e + 1;
+  }
+  return part;
+}
+
+/// cloth.KEY, cloth.stiffness.KIND or cloth.generate.KEY set to value.
+void set_cloth_key(toml::table& root, const std::vector<std::string>& part, toml::node&& value,
+                   const std::string& where) {
+  toml::table& cloth = child_table(root, "cloth", where);
+  if (!contains(kClothKeys, part[1])) throw unknown_key(where, part[1], kClothKeys, "cloth");
+  if (part[1] == "stiffness" && part.size() >= 3) {
+    if (!contains(kStiffnessKeys, part[2]))
+      throw unknown_key(where, part[2], kStiffnessKeys, "cloth.stiffness");
+    if (part.size() > 3) throw single_value(where, part, 3);
+    // a missing table means the default stiffnesses; change just the one named
+    const cloth::ClothParams d;
+    toml::table& st = child_table(cloth, "stiffness", where,
+                                  "{ structural = " + toml_double(d.k_structural) +
+                                      ", shear = " + toml_double(d.k_shear) +
+                                      ", bend = " + toml_double(d.k_bend) + " }");
+    st.insert_or_assign(part[2], std::move(value));
+    return;
+  }
+  if (part[1] == "generate" && part.size() >= 3) {
+    // one key of the generated shape
+    if (!contains(kGenerateKeys, part[2]))
+      throw unknown_key(where, part[2], kGenerateKeys, "cloth.generate");
+    if (part.size() > 3) throw single_value(where, part, 3);
+    child_table(cloth, "generate", where).insert_or_assign(part[2], std::move(value));
+    return;
+  }
+  if (part.size() > 2) throw single_value(where, part, 2);
+  // the three ways of giving the mass replace each other
+  for (const char* mass : {"particle_mass", "total_mass", "areal_density"})
+    if (part[1] == mass)
+      for (const char* other : {"particle_mass", "total_mass", "areal_density"})
+        if (part[1] != other) cloth.erase(other);
+  cloth.insert_or_assign(part[1], std::move(value));
+}
+
+}  // namespace
+
 void apply_override(toml::table& root, const std::string& text) {
   const size_t eq = text.find('=');
   if (eq == std::string::npos)
@@ -128,63 +197,16 @@ void apply_override(toml::table& root, const std::string& text) {
   const std::string where = kOverridePrefix + key;
   if (key.empty()) throw ScenarioError(kOverridePrefix + text, "", "expected a key before '='");
   if (value_text.empty()) throw ScenarioError(where, "", "expected a value after '='");
-  std::vector<std::string> part;
-  for (size_t b = 0;;) {
-    const size_t e = key.find('.', b);
-    part.push_back(key.substr(b, e - b));
-    if (part.back().empty())
-      throw ScenarioError(where, "", "expected a dotted key such as cloth.damping");
-    if (e == std::string::npos) break;
-    b = e + 1;
-  }
-  const auto unknown = [&](const std::string& k, const Keys& known, const std::string& in) {
-    return ScenarioError(
-        where, "",
-        "unknown key " + toml_string(k) + (in.empty() ? "" : " in " + in) + suggest(k, known));
-  };
-  const auto not_a_table = [&](size_t depth) {
-    std::string k = part[0];
-    for (size_t d = 1; d < depth; ++d) k += "." + part[d];
-    return ScenarioError(where, "", k + " is a single value, it has no keys");
-  };
+  const std::vector<std::string> part = key_parts(key, where);
   const std::string& top = part[0];
-  if (!contains(kTopKeys, top)) throw unknown(top, kTopKeys, "");
+  if (!contains(kTopKeys, top)) throw unknown_key(where, top, kTopKeys, "");
   toml::table holder = parse_value(value_text, where);
   toml::node& value = *holder.get("v");
 
   if (part.size() == 1) {
     root.insert_or_assign(top, std::move(value));
   } else if (top == "cloth") {
-    toml::table& cloth = child_table(root, "cloth", where);
-    if (!contains(kClothKeys, part[1])) throw unknown(part[1], kClothKeys, "cloth");
-    if (part[1] == "stiffness" && part.size() >= 3) {
-      if (!contains(kStiffnessKeys, part[2]))
-        throw unknown(part[2], kStiffnessKeys, "cloth.stiffness");
-      if (part.size() > 3) throw not_a_table(3);
-      // a missing table means the default stiffnesses; change just the one named
-      const cloth::ClothParams d;
-      toml::table& st = child_table(cloth, "stiffness", where,
-                                    "{ structural = " + toml_double(d.k_structural) +
-                                        ", shear = " + toml_double(d.k_shear) +
-                                        ", bend = " + toml_double(d.k_bend) + " }");
-      st.insert_or_assign(part[2], std::move(value));
-      return;
-    }
-    if (part[1] == "generate" && part.size() >= 3) {
-      // one key of the generated shape; the table must be there already
-      if (!contains(kGenerateKeys, part[2]))
-        throw unknown(part[2], kGenerateKeys, "cloth.generate");
-      if (part.size() > 3) throw not_a_table(3);
-      child_table(cloth, "generate", where).insert_or_assign(part[2], std::move(value));
-      return;
-    }
-    if (part.size() > 2) throw not_a_table(2);
-    // the three ways of giving the mass replace each other
-    for (const char* mass : {"particle_mass", "total_mass", "areal_density"})
-      if (part[1] == mass)
-        for (const char* other : {"particle_mass", "total_mass", "areal_density"})
-          if (part[1] != other) cloth.erase(other);
-    cloth.insert_or_assign(part[1], std::move(value));
+    set_cloth_key(root, part, std::move(value), where);
   } else if (const std::optional<Keys> known = entry_keys(top)) {
     toml::node* list = root.get(top);
     const size_t k = entry_index(list ? list->as_array() : nullptr, top, part[1], where);
@@ -193,13 +215,13 @@ void apply_override(toml::table& root, const std::string& text) {
       entries.replace(entries.cbegin() + static_cast<std::ptrdiff_t>(k), std::move(value));
       return;
     }
-    if (!contains(*known, part[2])) throw unknown(part[2], *known, top + "." + part[1]);
-    if (part.size() > 3) throw not_a_table(3);
+    if (!contains(*known, part[2])) throw unknown_key(where, part[2], *known, top + "." + part[1]);
+    if (part.size() > 3) throw single_value(where, part, 3);
     toml::table* entry = entries.get(k)->as_table();
     if (!entry) throw ScenarioError(where, "", top + "." + part[1] + " is not a table");
     entry->insert_or_assign(part[2], std::move(value));
   } else {
-    throw not_a_table(1);
+    throw single_value(where, part, 1);
   }
 }
 

@@ -1,7 +1,7 @@
 #include "harness/scenario/scenario_writer.hpp"
 
-#include <initializer_list>
 #include <filesystem>
+#include <initializer_list>
 #include <sstream>
 
 #include "format/number_format.hpp"
@@ -73,7 +73,8 @@ void write_selection(std::ostream& o, const ConstraintSpec& k) {
   if (k.select == "within")
     o << "center = " << vec3(k.center) << "  # m\nradius = " << toml_double(k.disk_radius)
       << "  # m\n";
-  if (k.select == "box") o << "min = " << vec3(k.box_min) << "  # m\nmax = " << vec3(k.box_max) << "  # m\n";
+  if (k.select == "box")
+    o << "min = " << vec3(k.box_min) << "  # m\nmax = " << vec3(k.box_max) << "  # m\n";
   if (k.select == "group") o << "name = " << toml_string(k.group) << "\n";
   if (k.select == "indices" && !k.vertices.empty()) {
     o << "list = [";
@@ -127,8 +128,8 @@ void write_cloth(std::ostream& o, const Scenario& s) {
   const cloth::ClothParams& c = s.scene.cloth;
   o << "\n[cloth]\n";
   if (!s.mesh.file.empty()) {
-    o << "mesh = " << toml_string(std::filesystem::absolute(s.mesh.path).lexically_normal().string())
-      << "\n";
+    o << "mesh = "
+      << toml_string(std::filesystem::absolute(s.mesh.path).lexically_normal().string()) << "\n";
   } else if (!s.mesh.generated) {
     o << "particles = [" << c.nu << ", " << c.nv << "]\n"
       << "size = " << vec({c.size_u, c.size_v}) << "  # m\n"

@@ -14,15 +14,17 @@ struct KeyOwner {
   const char* key;
   Keys owners;
 };
-const KeyOwner kOwners[] = {{"center", {"disk", "within"}}, {"radius", {"disk", "within"}},
-                            {"list", {"indices"}},          {"name", {"group"}},
-                            {"min", {"box"}},               {"max", {"box"}}};
+const KeyOwner kOwners[] = {{"center", {"disk", "within"}},
+                            {"radius", {"disk", "within"}},
+                            {"list", {"indices"}},
+                            {"name", {"group"}},
+                            {"min", {"box"}},
+                            {"max", {"box"}}};
 
 /// "a" or "a" or "b", quoted.
 std::string either(const Keys& k) {
   std::string s;
-  for (size_t i = 0; i < k.size(); ++i)
-    s += (i ? " or \"" : "\"") + std::string(k[i]) + "\"";
+  for (size_t i = 0; i < k.size(); ++i) s += (i ? " or \"" : "\"") + std::string(k[i]) + "\"";
   return s;
 }
 
@@ -42,8 +44,8 @@ void read_disk(const Reader& r, const At& at, const cloth::Scene& scene, Constra
 /// A ball (center = [x, y, z], radius) or a box (min, max) around rest positions.
 void read_region(const Reader& r, const At& at, ConstraintSpec& c) {
   const bool ball = c.select == "within";
-  for (const char* key : ball ? std::vector<const char*>{"center", "radius"}
-                              : std::vector<const char*>{"min", "max"})
+  for (const char* key :
+       ball ? std::vector<const char*>{"center", "radius"} : std::vector<const char*>{"min", "max"})
     if (!at.table.get(key))
       r.fail(&at.table, at.key(key),
              ball ? "select = \"within\" needs center = [x, y, z] and radius = r (m)"
@@ -58,8 +60,7 @@ void read_region(const Reader& r, const At& at, ConstraintSpec& c) {
   for (int a = 0; a < 3; ++a)
     if (!(c.box_min[a] <= c.box_max[a]))
       r.fail(at.table.get("max"), at.key("max"),
-             "expected max >= min on every axis, got max below min on " +
-                 std::string(1, "xyz"[a]));
+             "expected max >= min on every axis, got max below min on " + std::string(1, "xyz"[a]));
 }
 
 /// indices: [[i, j], ...] on a grid, [v, ...] (0-based vertex indices) on a mesh.
@@ -72,8 +73,9 @@ void read_indices(const Reader& r, const At& at, const cloth::Scene& scene, Cons
                 : "select = \"indices\" needs list = [[i, j], ...]");
   const toml::array* list = n->as_array();
   if (!list || list->empty())
-    r.expected(*n, at.key("list"),
-               mesh ? "a non-empty array of vertex indices" : "a non-empty array of [i, j] grid indices");
+    r.expected(
+        *n, at.key("list"),
+        mesh ? "a non-empty array of vertex indices" : "a non-empty array of [i, j] grid indices");
   const cloth::ClothParams& cloth = scene.cloth;
   const int count = scene.particle_count();
   for (size_t k = 0; k < list->size(); ++k) {
@@ -95,22 +97,24 @@ void read_indices(const Reader& r, const At& at, const cloth::Scene& scene, Cons
       r.fail(&e, key,
              "expected a grid index with i in 0.." + std::to_string(cloth.nu - 1) +
                  " and j in 0.." + std::to_string(cloth.nv - 1) + " (the grid has " +
-                 std::to_string(cloth.nu) + " x " + std::to_string(cloth.nv) +
-                 " particles), got " + describe(e));
+                 std::to_string(cloth.nu) + " x " + std::to_string(cloth.nv) + " particles), got " +
+                 describe(e));
     c.indices.emplace_back(i, j);
   }
 }
 
 /// group: a named vertex group of the mesh.
 void read_group(const Reader& r, const At& at, const cloth::Scene& scene, ConstraintSpec& c) {
-  if (!at.table.get("name")) r.fail(&at.table, at.key("name"), "select = \"group\" needs name = \"...\"");
+  if (!at.table.get("name"))
+    r.fail(&at.table, at.key("name"), "select = \"group\" needs name = \"...\"");
   c.group = r.string(at, "name", "");
   Keys names;
   for (const auto& g : scene.mesh->groups) names.push_back(g.first);
   if (!contains(names, c.group))
     r.fail(at.table.get("name"), at.key("name"),
-           "expected a group of the mesh (" + (names.empty() ? std::string("it has none") : join(names, "\"")) +
-               "), got " + toml_string(c.group) + suggest(c.group, names));
+           "expected a group of the mesh (" +
+               (names.empty() ? std::string("it has none") : join(names, "\"")) + "), got " +
+               toml_string(c.group) + suggest(c.group, names));
 }
 
 /// The error of a region that holds no particle, blamed on its size.
@@ -148,14 +152,15 @@ ConstraintSpec read_selection(const Reader& r, const toml::table& t, const std::
     r.fail(t.get("select") ? t.get("select") : &t, at.key("select"),
            "selects on a grid; a mesh selects \"group\", \"indices\", \"within\" or \"box\"");
   if (!mesh && c.select == "group")
-    r.fail(t.get("select"), at.key("select"), "a grid has no vertex groups; groups come from a mesh's g/o names");
+    r.fail(t.get("select"), at.key("select"),
+           "a grid has no vertex groups; groups come from a mesh's g/o names");
   if (contains(keys, "hold")) {
     const std::string hold = r.string(at, "hold", hold_letters(c.hold));
     c.hold = parse_hold(hold);
     if (c.hold == 0)
-      r.fail(t.get("hold"), at.key("hold"),
-             "expected a non-empty combination of the letters x, y and z, got " +
-                 toml_string(hold));
+      r.fail(
+          t.get("hold"), at.key("hold"),
+          "expected a non-empty combination of the letters x, y and z, got " + toml_string(hold));
   }
   // each selection takes its own keys
   for (const KeyOwner& o : kOwners)
