@@ -81,7 +81,8 @@ VectorX particle_masses(const Scene& scene) {
   return VectorX::Constant(n, pm);
 }
 
-// one structural spring per edge, one bend spring per interior edge across its two triangles
+// one structural spring per edge, one bend spring per interior edge across its two triangles,
+// in the order the general kernel runs fastest
 SpringSet mesh_springs(const ClothParams& c, const TriangleMesh& mesh) {
   const MeshEdges e = mesh_edges(mesh);
   SpringSet set;
@@ -94,7 +95,11 @@ SpringSet mesh_springs(const ClothParams& c, const TriangleMesh& mesh) {
     for (const auto& [a, b] : e.edges) add(a, b, c.k_structural, SpringKind::structural);
   if (c.k_bend > 0)
     for (const auto& [a, b] : e.bend_pairs) add(a, b, c.k_bend, SpringKind::bend);
-  return set;
+  // laid out for the general kernel (each particle's first springs together, so most blocks
+  // start at consecutive particles), the particles keeping their numbers
+  std::vector<int> same(static_cast<size_t>(mesh.vertex_count()));
+  for (size_t p = 0; p < same.size(); ++p) same[p] = static_cast<int>(p);
+  return renumbered(set, same);
 }
 
 // the particles, their masses and held axes of a grid or a mesh
