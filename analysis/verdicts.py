@@ -173,7 +173,10 @@ def _layer_lines(f, engines):
         else:
             gap = rows["min_self_distance"][seen]
             gap = gap[np.isfinite(gap)]
-            closest = f"; closest approach {length(float(gap.min()))}" if len(gap) else ""
+            closest = ""
+            if len(gap):
+                touch = " (layers touching, none crossing)" if gap.min() == 0 else ""
+                closest = f"; closest approach {length(float(gap.min()))}{touch}"
             lines.append(("ok", f"{e}: no crossing in any frame{closest}."))
     if crossed:
         lines.insert(0, ("bad", "Engines that let the cloth pass through itself: "
