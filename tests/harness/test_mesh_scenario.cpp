@@ -273,3 +273,30 @@ TEST_CASE("a mesh file is read relative to the scenario file; a bad one names it
     CHECK_THAT(std::string(e.what()), Contains("bad.obj:5:"));
   }
 }
+
+TEST_CASE("a mesh whose rest shape crosses itself loads with a warning, counted from frame 0",
+          "[mesh][selfintersection]") {
+  // two napkins (two pieces of one file): the second stands upright through the first
+  clothbench::test::TempDir dir("mesh-crossing");
+  {
+    std::ofstream obj(dir.path / "two.obj");
+    obj << "o flat\nv -1 1 -1\nv 1 1 -1\nv -1 1 1\nv 1 1 1\nf 1 3 2\nf 2 3 4\n"
+        << "o upright\nv -0.5 0.5 0.1\nv 0.5 0.5 0.1\nv -0.5 1.5 0.1\nv 0.5 1.5 0.1\n"
+        << "f 5 6 7\nf 6 8 7\n";
+    std::ofstream f(dir.path / "s.toml");
+    f << "duration = 0.01\nframe_interval = 0.01\n[cloth]\nmesh = \"two.obj\"\n"
+      << "total_mass = 0.1\n" << kCustomRk4;
+  }
+  const Scenario sc = load_scenario((dir.path / "s.toml").string());
+  REQUIRE(sc.warnings.size() == 1);
+  CHECK_THAT(sc.warnings[0], Contains("the rest shape crosses itself"));
+  RunOptions o;
+  o.progress = false;
+  const RunResult r = run_scenario(sc, o);
+  // the planes meet along y = 1, z = 0.1, x in [-0.5, 0.5]. Upright edges through y = 1: 5-7
+  // at x = -0.5 (in the flat triangle x + z < 0), 6-8 at x = 0.5 and the diagonal 6-7 at x = 0
+  // (both in the flat triangle x + z > 0); the flat diagonal 2-3 (x = -z) meets z = 0.1 at
+  // x = -0.1, inside the upright triangle x + y < 1: four crossings
+  CHECK(r.runs.front().frames.front().self_intersections == 4);
+  CHECK(r.runs.front().frames.front().min_self_distance == 0.0);
+}
