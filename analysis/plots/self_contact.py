@@ -14,7 +14,7 @@ CAPTION = ("Left: edge-triangle crossings of the cloth with itself per frame (an
            "triangles that pass through each other usually count 2). Every engine is measured "
            "the same way, from its positions alone. Right: the smallest vertex-triangle or "
            "edge-edge distance between parts of the cloth more than two rings apart, capped at "
-           "half the mean rest edge length; 0 where layers meet.")
+           "half the mean rest edge length; near 0 where layers meet.")
 
 
 def available(folder):

@@ -3,6 +3,7 @@
 // every engine (free fall, self-intersection measured the same way).
 
 #include <catch2/catch.hpp>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -278,6 +279,7 @@ TEST_CASE("a mesh whose rest shape crosses itself loads with a warning, counted 
           "[mesh][selfintersection]") {
   // two napkins (two pieces of one file): the second stands upright through the first
   clothbench::test::TempDir dir("mesh-crossing");
+  fs::create_directories(dir.path);
   {
     std::ofstream obj(dir.path / "two.obj");
     obj << "o flat\nv -1 1 -1\nv 1 1 -1\nv -1 1 1\nv 1 1 1\nf 1 3 2\nf 2 3 4\n"
@@ -298,5 +300,7 @@ TEST_CASE("a mesh whose rest shape crosses itself loads with a warning, counted 
   // (both in the flat triangle x + z > 0); the flat diagonal 2-3 (x = -z) meets z = 0.1 at
   // x = -0.1, inside the upright triangle x + y < 1: four crossings
   CHECK(r.runs.front().frames.front().self_intersections == 4);
-  CHECK(r.runs.front().frames.front().min_self_distance == 0.0);
+  // the distance is between elements, not edge to triangle: the two diagonals, the lines
+  // (t, 1, -t) and (s, 1 - s, 0.1), pass 0.1 / sqrt(3) m apart
+  CHECK(r.runs.front().frames.front().min_self_distance == Approx(0.1 / std::sqrt(3.0)));
 }
