@@ -139,6 +139,9 @@ def _drape_and_cost_lines(f):
         text = "Drape coefficients: " + ", ".join(f"{e} {c:.3f}" for e, c in coeffs)
         if len(values) > 1:
             text += f" (spread {max(values) - min(values):.3f})"
+        if f.mesh_faces() is None:
+            # a grid's square cloth, not the Cusick test's disk specimen
+            text += "; a grid approximation of the Cusick test"
         lines.append(("info", text + "."))
     cost = [(r["engine"], r["us_per_step"], r["force_evals"], str(r.get("kind", "")))
             for r in f.table("summary.csv").rows() if _finite(r["us_per_step"])]
