@@ -15,6 +15,7 @@
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/runner.hpp"
+#include "harness/scenario/obj_reader.hpp"
 #include "harness/scenario/scenario_loader.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
@@ -287,7 +288,8 @@ TEST_CASE("a mesh whose rest shape crosses itself loads with a warning, counted 
         << "f 5 6 7\nf 6 8 7\n";
     std::ofstream f(dir.path / "s.toml");
     f << "duration = 0.01\nframe_interval = 0.01\n[cloth]\nmesh = \"two.obj\"\n"
-      << "total_mass = 0.1\n" << kCustomRk4;
+      << "total_mass = 0.1\n"
+      << kCustomRk4;
   }
   const Scenario sc = load_scenario((dir.path / "s.toml").string());
   REQUIRE(sc.warnings.size() == 1);
@@ -303,4 +305,13 @@ TEST_CASE("a mesh whose rest shape crosses itself loads with a warning, counted 
   // the distance is between elements, not edge to triangle: the two diagonals, the lines
   // (t, 1, -t) and (s, 1 - s, 0.1), pass 0.1 / sqrt(3) m apart
   CHECK(r.runs.front().frames.front().min_self_distance == Approx(0.1 / std::sqrt(3.0)));
+}
+
+TEST_CASE("a mesh file without a size (a device) is read no further than the limit",
+          "[mesh][scenario]") {
+  ObjLimits small;
+  small.max_bytes = 4096;
+  // /dev/zero never ends and has no size to check first: one endless line of NULs
+  CHECK_THROWS_WITH(read_obj_file("/dev/zero", small),
+                    Contains("/dev/zero: more than the 4096 bytes a mesh file may have"));
 }

@@ -358,9 +358,17 @@ ObjFile read_obj_file(const std::string& path, ObjLimits limits) {
   if (!ec && size > limits.max_bytes)
     throw UserError(path + ": " + std::to_string(size) + " bytes, more than the " +
                     std::to_string(limits.max_bytes) + " a mesh file may have");
+  // read in chunks, never past the limit: a device or a pipe (/dev/zero) has no size to check
   std::string text;
   if (!ec) text.reserve(static_cast<std::size_t>(size));
-  text.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  std::vector<char> chunk(1 << 16);
+  while (in) {
+    in.read(chunk.data(), static_cast<std::streamsize>(chunk.size()));
+    text.append(chunk.data(), static_cast<std::size_t>(in.gcount()));
+    if (text.size() > limits.max_bytes)
+      throw UserError(path + ": more than the " + std::to_string(limits.max_bytes) +
+                      " bytes a mesh file may have");
+  }
   if (in.bad()) throw UserError(path + ": cannot read (" + std::strerror(errno) + ")");
   return read_obj_text(text, path, limits);
 }
