@@ -457,8 +457,8 @@ TEST_CASE("a run's trajectory holds every engine's positions every animation_int
     const std::string npy = slurp(t / (run.spec.name + ".npy"));
     REQUIRE(npy.size() > 10);
     CHECK(npy.compare(0, 6, "\x93NUMPY") == 0);
-    const size_t header = 10 + static_cast<unsigned char>(npy[8]) +
-                          256 * static_cast<unsigned char>(npy[9]);
+    const size_t header =
+        10 + static_cast<unsigned char>(npy[8]) + 256 * static_cast<unsigned char>(npy[9]);
     CHECK(header % 64 == 0);
     // frames before a blow-up only, each 6 x 5 particles by 3 float32
     size_t frames = 0;
@@ -476,8 +476,7 @@ TEST_CASE("a run's trajectory holds every engine's positions every animation_int
   CHECK(slurp(t / "explicit-big-step.npy").size() < slurp(t / "rk4.npy").size());
 }
 
-TEST_CASE("animation_interval = 0 writes no trajectory and a rerun leaves none stale",
-          "[runner]") {
+TEST_CASE("animation_interval = 0 writes no trajectory and a rerun leaves none stale", "[runner]") {
   const clothbench::test::TempDir scratch("runner-no-trajectory");
   const fs::path t = scratch.path / "trajectory";
   write_run(run_small({"animation_interval=0"}), scratch.path.string());

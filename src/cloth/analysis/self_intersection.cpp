@@ -455,4 +455,15 @@ SelfIntersection SelfIntersectionMeter::measure(const Matrix3X& x,
   return r;
 }
 
+SelfIntersectionMeter rest_shape_meter(const Matrix3X& x0, const std::vector<Triangle>& triangles) {
+  // the mean rest length of the triangles' edges (each interior edge counted twice)
+  double sum = 0;
+  for (const Triangle& tri : triangles)
+    for (int k = 0; k < 3; ++k) sum += (x0.col(tri[(k + 1) % 3]) - x0.col(tri[k])).norm();
+  const double half =
+      triangles.empty() ? 0.0 : 0.5 * (sum / (3.0 * static_cast<double>(triangles.size())));
+  return SelfIntersectionMeter(static_cast<int>(x0.cols()), triangles,
+                               half > 0 && std::isfinite(half) ? half : 1.0);
+}
+
 }  // namespace cloth

@@ -95,4 +95,9 @@ class SelfIntersectionMeter {
   long long m_work_budget = 0;
 };
 
+/// The meter of a cloth whose rest shape is x0 (3 by #P, m): its distances capped at half the
+/// mean rest edge length (layers closer than that are near contact; a larger cap costs more to
+/// search), or at 1 m when that length is not positive and finite.
+SelfIntersectionMeter rest_shape_meter(const Matrix3X& x0, const std::vector<Triangle>& triangles);
+
 }  // namespace cloth

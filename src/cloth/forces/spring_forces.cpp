@@ -219,16 +219,19 @@ StrainStats strain_stats(const SpringSet& springs, const Matrix3X& x) {
 
 namespace cloth {
 
-bool within_strain(const SpringSet& springs, const Matrix3X& x, double limit) {
-  // |d| / l0 - 1 in [-limit, limit]  <=>  (1 - limit)^2 l0^2 <= |d|^2 <= (1 + limit)^2 l0^2;
-  // written so that a NaN fails the test
-  const double hi = (1.0 + limit) * (1.0 + limit);
-  const double lo = limit < 1.0 ? (1.0 - limit) * (1.0 - limit) : 0.0;
+namespace {
+
+/// True when every coordinate is finite and every spring checked has lo l0^2 <= |d|^2 <= hi
+/// l0^2 (squared lengths only; written so that a NaN fails); bend springs skipped when
+/// skip_bend.
+bool within_lengths(const SpringSet& springs, const Matrix3X& x, double lo, double hi,
+                    bool skip_bend) {
   const double* __restrict X = x.row(0).data();
   const double* __restrict Y = x.row(1).data();
   const double* __restrict Z = x.row(2).data();
   int bad = 0;
   for (const SpringFamily& fam : springs.families) {
+    if (skip_bend && fam.kind == SpringKind::bend) continue;
     const int o = fam.offset, m = fam.slots();
     const double* __restrict mask = fam.mask.data();
     const double* __restrict rest = fam.rest.data();
@@ -245,46 +248,31 @@ bool within_strain(const SpringSet& springs, const Matrix3X& x, double limit) {
   const int* __restrict A = l.a.data();
   const int* __restrict B = l.b.data();
   const double* __restrict rest = l.rest.data();
+  const SpringKind* __restrict kind = l.kind.data();
 #pragma omp simd reduction(+ : bad)
   for (int i = 0; i < l.size(); ++i) {
     const int a = A[i], b = B[i];
     const double dx = X[b] - X[a], dy = Y[b] - Y[a], dz = Z[b] - Z[a];
     const double d2 = dx * dx + dy * dy + dz * dz;
     const double r2 = rest[i] * rest[i];
-    bad += ((d2 <= hi * r2) && (d2 >= lo * r2)) ? 0 : 1;
+    const bool ok = (d2 <= hi * r2) && (d2 >= lo * r2);
+    bad += (!ok && !(skip_bend && kind[i] == SpringKind::bend)) ? 1 : 0;
   }
   // a single particle without springs is checked for finiteness directly
   return bad == 0 && x.allFinite();
 }
 
+}  // namespace
+
+bool within_strain(const SpringSet& springs, const Matrix3X& x, double limit) {
+  // |d| / l0 - 1 in [-limit, limit]  <=>  (1 - limit)^2 l0^2 <= |d|^2 <= (1 + limit)^2 l0^2
+  const double lo = limit < 1.0 ? (1.0 - limit) * (1.0 - limit) : 0.0;
+  return within_lengths(springs, x, lo, (1.0 + limit) * (1.0 + limit), false);
+}
+
 bool within_stretch(const SpringSet& springs, const Matrix3X& x, double limit) {
-  // |d| / l0 - 1 <= limit  <=>  |d|^2 <= (1 + limit)^2 l0^2; written so that a NaN fails
-  const double hi = (1.0 + limit) * (1.0 + limit);
-  const double* __restrict X = x.row(0).data();
-  const double* __restrict Y = x.row(1).data();
-  const double* __restrict Z = x.row(2).data();
-  int bad = 0;
-  for (const SpringFamily& fam : springs.families) {
-    if (fam.kind == SpringKind::bend) continue;
-    const int o = fam.offset, m = fam.slots();
-    const double* __restrict mask = fam.mask.data();
-    const double* __restrict rest = fam.rest.data();
-#pragma omp simd reduction(+ : bad)
-    for (int p = 0; p < m; ++p) {
-      const double dx = X[p + o] - X[p], dy = Y[p + o] - Y[p], dz = Z[p + o] - Z[p];
-      const double d2 = dx * dx + dy * dy + dz * dz;
-      bad += (mask[p] != 0.0 && !(d2 <= hi * rest[p] * rest[p])) ? 1 : 0;
-    }
-  }
-  const SpringList& l = springs.list;
-  for (int i = 0; i < l.size(); ++i) {
-    if (l.kind[size_t(i)] == SpringKind::bend) continue;
-    const int a = l.a[size_t(i)], b = l.b[size_t(i)];
-    const double dx = X[b] - X[a], dy = Y[b] - Y[a], dz = Z[b] - Z[a];
-    const double d2 = dx * dx + dy * dy + dz * dz;
-    bad += d2 <= hi * l.rest[size_t(i)] * l.rest[size_t(i)] ? 0 : 1;
-  }
-  return bad == 0 && x.allFinite();
+  // |d| / l0 - 1 <= limit  <=>  |d|^2 <= (1 + limit)^2 l0^2, bend springs left out
+  return within_lengths(springs, x, 0.0, (1.0 + limit) * (1.0 + limit), true);
 }
 
 }  // namespace cloth

@@ -68,18 +68,6 @@ double shadow_area(const cloth::Model& model, const Eigen::Vector3d& gravity, co
   return static_cast<double>(covered) * cell * cell;
 }
 
-cloth::SelfIntersectionMeter self_intersection_meter(const cloth::Model& model) {
-  // the mean rest length of the triangles' edges (each interior edge counted twice)
-  double sum = 0;
-  for (const cloth::Triangle& tri : model.triangles)
-    for (int k = 0; k < 3; ++k)
-      sum += (model.x0.col(tri[(k + 1) % 3]) - model.x0.col(tri[k])).norm();
-  const double mean_edge = model.triangles.empty() ? 1.0 : sum / (3.0 * model.triangles.size());
-  // half an edge: layers closer than that are near contact; a larger cap costs more to search
-  return cloth::SelfIntersectionMeter(model.particle_count(), model.triangles,
-                                      mean_edge > 0 ? 0.5 * mean_edge : 1.0);
-}
-
 FrameMetrics frame_metrics(const cloth::Model& model, double t, const Matrix3X& x,
                            const Matrix3X& v, const EnergyBooks& books, double e0,
                            const cloth::SelfIntersectionMeter* meter) {

@@ -72,12 +72,8 @@ constexpr int kShadowResolution = 512;
 double shadow_area(const cloth::Model& model, const Eigen::Vector3d& gravity,
                    const cloth::Matrix3X& x);
 
-/// The self-intersection meter of a model's triangles, its distances capped at half the mean
-/// rest edge length.
-cloth::SelfIntersectionMeter self_intersection_meter(const cloth::Model& model);
-
 /// Metrics of state (x, v) at time t; e0 is the initial total energy. With a meter (see
-/// self_intersection_meter) the self-intersection columns are measured, else left unknown.
+/// cloth::rest_shape_meter) the self-intersection columns are measured, else left unknown.
 /// @param x  3 by #P positions (m)
 /// @param v  3 by #P velocities (m/s)
 FrameMetrics frame_metrics(const cloth::Model& model, double t, const cloth::Matrix3X& x,

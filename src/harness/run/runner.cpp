@@ -139,7 +139,7 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
 
   // frames sit on the exact grid k * frame_interval; a blow-up row at the failing step's time
   ContactMeter contact(*sim);
-  const cloth::SelfIntersectionMeter meter = self_intersection_meter(model);
+  const cloth::SelfIntersectionMeter meter = cloth::rest_shape_meter(model.x0, model.triangles);
   auto log_frame = [&](long long frame, bool stable) {
     const double t = stable ? double(frame) * sc.frame_interval : sim->time();
     FrameMetrics m = contact.read(frame_metrics(model, t, sim->positions(), sim->velocities(),

@@ -168,7 +168,8 @@ std::string crossings_json(const EngineRun& run, const Grid& g, size_t frames,
 /// trajectory.json: what the .npy files hold.
 std::string index_json(const RunResult& result, const Grid& g,
                        const std::vector<size_t>& engine_frames) {
-  const cloth::SelfIntersectionMeter meter = self_intersection_meter(result.model);
+  const cloth::SelfIntersectionMeter meter =
+      cloth::rest_shape_meter(result.model.x0, result.model.triangles);
   const Scenario& sc = result.scenario;
   const cloth::ClothParams& c = sc.scene.cloth;
   std::ostringstream o;

@@ -1,6 +1,5 @@
 #include "harness/scenario/cloth_reader.hpp"
 
-#include <cmath>
 #include <filesystem>
 #include <memory>
 
@@ -126,14 +125,9 @@ cloth::ShapeSpec read_shape(const Reader& r, const toml::table& t) {
 /// A warning when the mesh's rest shape already crosses itself (frames.csv counts those
 /// crossings from frame 0 on).
 void warn_rest_crossings(const cloth::TriangleMesh& mesh, Scenario& s) {
-  // half the mean edge as the distance cap, as the runs use (the cells follow it)
-  double sum = 0;
-  for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) sum += (mesh.x.col(t[(k + 1) % 3]) - mesh.x.col(t[k])).norm();
-  const double cutoff = mesh.triangles.empty() ? 1.0 : sum / (6.0 * mesh.triangles.size());
-  if (!(cutoff > 0) || !std::isfinite(cutoff)) return;
+  // the meter the runs use
   const cloth::SelfIntersection si =
-      cloth::SelfIntersectionMeter(mesh.vertex_count(), mesh.triangles, cutoff).measure(mesh.x);
+      cloth::rest_shape_meter(mesh.x, mesh.triangles).measure(mesh.x);
   if (si.crossings > 0)
     s.warnings.push_back(s.mesh.path + ": the rest shape crosses itself (" +
                          std::to_string(si.crossings) +
