@@ -30,6 +30,9 @@ struct BulletOptions {
   SoftbodyStiffness stiffness = SoftbodyStiffness::matched;  // bullet-softbody
   double klst = 1.0;    // bullet-softbody: link stiffness in (0, 1] when stiffness = klst
   int iterations = 10;  // bullet-softbody: position-solver iterations
+  double repulsion_stiffness = 0.5;  // bullet-deformable, self-collision: repulsion (N/m)
+  double collision_margin = 0.0;     // bullet-deformable, self-collision: the soft body's
+                                     // collision margin (m); 0: half the cloth's thickness
 };
 
 }  // namespace clothbench::reference

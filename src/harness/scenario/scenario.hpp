@@ -3,6 +3,7 @@
 /// A scenario: one physical scene, how long and how often to log it, and the engines to run.
 /// Filled by scenario_loader from a TOML file; read by the runner and the engine factory.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,7 @@ struct EngineSpec {
   double dt = 1e-3;                 // s
   cloth::SolverOptions solver;      // kind = custom
   reference::BulletOptions bullet;  // kind = bullet-*
+  std::optional<bool> self_collision;  // the engine's own setting; unset: the cloth's
 };
 
 /// Where a mesh cloth comes from: an OBJ file (cloth.mesh) or a generated shape
