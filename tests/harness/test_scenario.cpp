@@ -72,6 +72,9 @@ void check_same_scene(const cloth::Scene& a, const cloth::Scene& b) {
   CHECK(x.k_structural == y.k_structural);
   CHECK(x.k_shear == y.k_shear);
   CHECK(x.k_bend == y.k_bend);
+  CHECK(x.self_collision == y.self_collision);
+  CHECK(x.thickness == y.thickness);
+  CHECK(x.self_friction == y.self_friction);
   CHECK(x.damping == y.damping);
   CHECK(x.air_drag == y.air_drag);
   CHECK(a.gravity == b.gravity);
@@ -130,6 +133,9 @@ void check_same_scenario(const Scenario& a, const Scenario& b) {
     CHECK(e.bullet.projection == f.bullet.projection);
     CHECK(e.bullet.stiffness == f.bullet.stiffness);
     CHECK(e.bullet.klst == f.bullet.klst);
+    CHECK(e.bullet.repulsion_stiffness == f.bullet.repulsion_stiffness);
+    CHECK(e.bullet.collision_margin == f.bullet.collision_margin);
+    CHECK(e.self_collision == f.self_collision);
     CHECK(e.bullet.iterations == f.bullet.iterations);
   }
 }

@@ -158,6 +158,9 @@ Model build_model(const Scene& scene) {
   m.triangles = scene.mesh ? scene.mesh->triangles : grid_triangles(c.nu, c.nv);
   m.gravity = scene.gravity;
   m.air_drag = c.air_drag;
+  m.self_collision = c.self_collision;
+  m.thickness = c.thickness;
+  m.self_friction = c.self_friction;
   m.wind = scene.wind;
   m.spheres = scene.spheres;
   m.shapes = scene.shapes;

@@ -29,6 +29,9 @@ struct Model {
   std::vector<Sphere> spheres;
   Shapes shapes;
   std::vector<Handle> handles;  // their particles are held on every axis in free
+  bool self_collision = false;  // keep the layers at least thickness apart
+  double thickness = 0;         // m
+  double self_friction = 0;     // Coulomb coefficient, cloth on cloth
 
   int particle_count() const { return static_cast<int>(mass.size()); }
   /// Adds the air drag -air_drag (v - wind) at velocities v (3 by #P, m/s) to f (N).

@@ -312,6 +312,17 @@ std::string facts_json() {
   return o.str();
 }
 
+/// Each engine's self-collision ("on", "off" or "not available"), as a JSON member.
+std::string self_collision_json(const Scenario& s) {
+  std::ostringstream o;
+  o << "  \"self_collision\": {";
+  for (size_t k = 0; k < s.engines.size(); ++k)
+    o << (k ? ", " : "") << "\"" << s.engines[k].name << "\": \""
+      << self_collision_name(self_collision_of(s.engines[k], s.scene.cloth)) << "\"";
+  o << "},\n";
+  return o.str();
+}
+
 /// frames.csv: one row per engine per frame.
 void write_frames(const RunResult& result, CsvWriter& frames) {
   for (const EngineRun& run : result.runs)
@@ -410,7 +421,7 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
 
 }  // namespace
 
-std::string run_info_json() {
+std::string run_info_json(const std::string& members) {
   char date[32];
   const std::time_t now = std::time(nullptr);
   std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
@@ -418,7 +429,7 @@ std::string run_info_json() {
   o << "{\n  \"tool\": \"clothbench\",\n  \"version\": \"" << kVersion << "\",\n"
     << "  \"git_commit\": \"" << kGitCommit << "\",\n  \"compiler\": \"" << kCompiler
     << "\",\n  \"date\": \"" << date << "\",\n"
-    << facts_json() << "\n}\n";
+    << members << facts_json() << "\n}\n";
   return o.str();
 }
 
@@ -444,7 +455,7 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   AtomicFile toml(dir + "scenario.toml");
   toml.write(scenario_to_toml(result.scenario));
   AtomicFile info(dir + "run.json");
-  info.write(run_info_json());
+  info.write(run_info_json(self_collision_json(result.scenario)));
   std::vector<std::unique_ptr<AtomicFile>> trajectory;
   write_trajectories(result, dir, trajectory);
   // a mesh's triangles, for the report's shapes

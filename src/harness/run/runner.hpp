@@ -95,8 +95,9 @@ double final_drape_coefficient(const RunResult& result, const EngineRun& run);
 
 /// Contents of run.json: tool version, git commit, compiler, date, and the facts about engine
 /// kinds (has_integrators, energy_gated, energy_note) and integrators (order,
-/// force_evals_per_step) that the report reads instead of keeping copies of its own.
-std::string run_info_json();
+/// force_evals_per_step) that the report reads instead of keeping copies of its own; members
+/// (JSON members, each line ending ",\n") go before the facts.
+std::string run_info_json(const std::string& members = "");
 
 /// Writes run_info_json() to dir/run.json atomically (sweep folders; dir ends with '/').
 void write_run_info(const std::string& dir);

@@ -88,6 +88,9 @@ void read_material(const Reader& r, const At& at, bool mesh, cloth::ClothParams&
   }
   c.damping = r.number(at, "damping", c.damping, kNonNegative);
   c.air_drag = r.number(at, "air_drag", c.air_drag, kNonNegative);
+  c.self_collision = r.boolean(at, "self_collision", c.self_collision);
+  c.thickness = r.number(at, "thickness", c.thickness, kLength);
+  c.self_friction = r.number(at, "self_friction", c.self_friction, kNonNegative);
 }
 
 /// [cloth.generate]: the shape and its sizes, each checked where it is read.

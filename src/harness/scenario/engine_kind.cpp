@@ -21,7 +21,7 @@ const std::vector<EngineKindInfo>& engine_kind_table() {
        true,
        true,
        "",
-       {"implicit", "line_search", "projection"}},
+       {"implicit", "line_search", "projection", "repulsion_stiffness", "collision_margin"}},
       // no spring damper: the projection dissipates, and the adapter books each step's energy
       // balance as dissipated, so the energy error is 0 by construction
       {EngineKind::bullet_softbody,

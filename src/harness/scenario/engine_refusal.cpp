@@ -8,6 +8,12 @@
 
 namespace clothbench {
 
+const char* const kSoftbodyNoSelfCollision =
+    "bullet-softbody cannot keep a cloth's layers apart: Bullet 3.24's classic soft body tests "
+    "vertex-face contact only between two bodies, and its cluster self-collision flag turns "
+    "soft-soft collision off; set self_collision = false here, or leave it out (a cloth's "
+    "self_collision = true is then noted as not available for this engine)";
+
 std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
                                                  const cloth::Scene& scene) {
   switch (spec.kind) {
@@ -16,6 +22,8 @@ std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
     case EngineKind::bullet_deformable:
       return reference::deformable_refusal(spec.bullet, scene);
     case EngineKind::bullet_softbody:
+      if (spec.self_collision.value_or(false))
+        return reference::Refusal{kSoftbodyNoSelfCollision, {}, {"self_collision"}};
       return reference::softbody_refusal(spec.bullet, spec.dt, scene);
   }
   throw std::logic_error("engine_refusal: an engine kind without a case");

@@ -12,6 +12,9 @@
 
 namespace clothbench {
 
+/// Why an explicit self_collision = true on a bullet-softbody engine is refused.
+extern const char* const kSoftbodyNoSelfCollision;
+
 /// Why an engine of spec cannot model scene (the feature, and the scenario keys to blame), or
 /// nullopt when it can. Pure: nothing is constructed. The custom engine models every scene.
 std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec, const cloth::Scene& scene);

@@ -30,9 +30,10 @@ const Keys kTopKeys = {"name",
                        "capsule",
                        "cylinder",
                        "handle"};
-const Keys kClothKeys = {"particles",     "size",       "center",        "plane",
-                         "particle_mass", "total_mass", "areal_density", "stiffness",
-                         "damping",       "air_drag",   "mesh",          "generate"};
+const Keys kClothKeys = {"particles",      "size",       "center",        "plane",
+                         "particle_mass",  "total_mass", "areal_density", "stiffness",
+                         "damping",        "air_drag",   "mesh",          "generate",
+                         "self_collision", "thickness",  "self_friction"};
 const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size", "length",
                             "edge_length", "seed",   "center",       "plane"};
 const Keys kStiffnessKeys = {"structural", "shear", "bend"};
@@ -45,7 +46,7 @@ const Keys kBoxKeys = {"center", "half_extents"};
 const Keys kCapsuleKeys = {"a", "b", "radius"};
 const Keys kCylinderKeys = {"center", "radius", "height"};
 const Keys kHandleKeys = {"select", "center", "radius", "list", "name", "min", "max", "path"};
-const Keys kEngineCommonKeys = {"name", "kind", "dt"};
+const Keys kEngineCommonKeys = {"name", "kind", "dt", "self_collision"};
 
 namespace {
 

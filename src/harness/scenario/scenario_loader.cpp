@@ -255,6 +255,8 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
       o.implicit = r.boolean(at, "implicit", o.implicit);
       o.line_search = r.boolean(at, "line_search", o.line_search);
       o.projection = r.boolean(at, "projection", o.projection);
+      o.repulsion_stiffness = r.number(at, "repulsion_stiffness", o.repulsion_stiffness, kPositive);
+      o.collision_margin = r.number(at, "collision_margin", o.collision_margin, kNonNegative);
       break;
     }
     case EngineKind::bullet_softbody: {
@@ -274,6 +276,9 @@ EngineSpec read_engine(const Reader& r, const toml::table& t, int index) {
   check_engine_keys(r, t, e);
   const At at{t, "engine." + e.name};
   e.dt = r.number(at, "dt", e.dt, kPositive);
+  if (t.get("self_collision")) e.self_collision = r.boolean(at, "self_collision", false);
+  if (e.self_collision.value_or(false) && e.kind == EngineKind::bullet_softbody)
+    r.fail(t.get("self_collision"), at.key("self_collision"), kSoftbodyNoSelfCollision);
   read_engine_options(r, at, e);
   return e;
 }
@@ -490,6 +495,15 @@ void keep_engines(const Reader& r, const toml::table& root,
   s.engines = std::move(kept);
 }
 
+/// A warning for each engine that runs without the self-collision the cloth asks for.
+void note_self_collision_unavailable(Scenario& s) {
+  for (const EngineSpec& e : s.engines)
+    if (s.scene.cloth.self_collision && !e.self_collision && e.kind == EngineKind::bullet_softbody)
+      s.warnings.push_back("engine " + e.name +
+                           ": cloth.self_collision = true is not available in bullet-softbody; "
+                           "it runs without (run.json says so) and its crossings are counted");
+}
+
 Scenario read_scenario(const toml::table& root, const std::string& source,
                        const std::vector<std::string>& only) {
   const Reader r(source);
@@ -502,6 +516,7 @@ Scenario read_scenario(const toml::table& root, const std::string& source,
   read_engines(r, root, engines, s);
   read_reference(r, root, s);
   keep_engines(r, root, engines, only, s);
+  note_self_collision_unavailable(s);
   return s;
 }
 

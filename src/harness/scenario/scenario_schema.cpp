@@ -198,6 +198,13 @@ void cloth_keys(std::vector<ScenarioKey>& out) {
   r.number("damping", "N s/m", c.damping, kNonNegative, "damper along every spring");
   r.number("air_drag", "N s/m", c.air_drag, kNonNegative,
            "viscous drag of every particle against the wind");
+  r.other("self_collision", "boolean", "", boolean(c.self_collision), "true or false",
+          "keep the cloth's layers apart in every engine that can (an engine's own "
+          "self_collision overrides it); a thickness the rest shape violates is refused");
+  r.number("thickness", "m", c.thickness, kLength,
+           "self-contact: the distance kept between layers (elements more than two rings apart)");
+  r.number("self_friction", "1", c.self_friction, kNonNegative,
+           "self-contact: Coulomb coefficient of cloth on cloth");
   Rows st(out, "cloth.stiffness");
   st.number("structural", "N/m", 0.0, kNonNegative,
             "springs between grid neighbours along u and v, or along a mesh's edges (0 when the "
@@ -341,6 +348,9 @@ void engine_keys(std::vector<ScenarioKey>& out) {
           "letters, digits, '-', '_', '+'; unique", "the engine's name in outputs and --set keys");
   r.choice("kind", quoted(engine_kind_name(e.kind)), engine_kind_names(), "the kind of engine");
   r.number("dt", "s", e.dt, kPositive, "time step; frame_interval must be a whole multiple of it");
+  r.other("self_collision", "boolean", "", "the cloth's self_collision", "true or false",
+          "this engine's self-contact, overriding the cloth's; true is refused on "
+          "bullet-softbody, which has none");
   custom_engine_keys(out);
   const reference::BulletOptions b;
   Rows d(out, "engine", engine_kind_name(EngineKind::bullet_deformable));
@@ -350,6 +360,10 @@ void engine_keys(std::vector<ScenarioKey>& out) {
           "implicit: Newton with a line search");
   d.other("projection", "boolean", "", boolean(b.projection), "true or false",
           "implicit: contact projection");
+  d.number("repulsion_stiffness", "N/m", b.repulsion_stiffness, kPositive,
+           "self-collision: the stiffness of Bullet's repulsion between a node and a face");
+  d.number("collision_margin", "m", "half the cloth's thickness", kNonNegative,
+           "self-collision: the soft body's collision margin (0: the default)");
   Rows s(out, "engine", engine_kind_name(EngineKind::bullet_softbody));
   s.choice("stiffness", quoted(reference::softbody_stiffness_name(b.stiffness)), kSoftbodyStiffness,
            "link stiffness: matched to the spring constant at dt, or klst for every link");

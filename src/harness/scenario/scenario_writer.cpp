@@ -146,7 +146,10 @@ void write_cloth(std::ostream& o, const Scenario& s) {
   if (!s.mesh.any()) o << ", shear = " << d(c.k_shear);
   o << ", bend = " << d(c.k_bend) << " }  # N/m\n"
     << "damping = " << d(c.damping) << "  # N s/m\n"
-    << "air_drag = " << d(c.air_drag) << "  # N s/m\n";
+    << "air_drag = " << d(c.air_drag) << "  # N s/m\n"
+    << "self_collision = " << (c.self_collision ? "true" : "false") << "\n"
+    << "thickness = " << d(c.thickness) << "  # m\n"
+    << "self_friction = " << d(c.self_friction) << "\n";
   if (!s.mesh.generated) return;
   const cloth::ShapeSpec& g = s.mesh.shape;
   o << "\n[cloth.generate]\nshape = " << toml_string(cloth::mesh_shape_name(g.shape)) << "\n";
@@ -197,12 +200,16 @@ std::string scenario_to_toml(const Scenario& s) {
       << "name = " << toml_string(e.name) << "\n"
       << "kind = " << toml_string(engine_kind_name(e.kind)) << "\n"
       << "dt = " << d(e.dt) << "  # s\n";
+    if (e.self_collision)
+      o << "self_collision = " << (*e.self_collision ? "true" : "false") << "\n";
     if (e.kind == EngineKind::custom) {
       write_custom_options(o, e.solver);
     } else if (e.kind == EngineKind::bullet_deformable) {
       o << "implicit = " << (e.bullet.implicit ? "true" : "false") << "\n"
         << "line_search = " << (e.bullet.line_search ? "true" : "false") << "\n"
-        << "projection = " << (e.bullet.projection ? "true" : "false") << "\n";
+        << "projection = " << (e.bullet.projection ? "true" : "false") << "\n"
+        << "repulsion_stiffness = " << d(e.bullet.repulsion_stiffness) << "  # N/m\n"
+        << "collision_margin = " << d(e.bullet.collision_margin) << "  # m\n";
     } else if (e.kind == EngineKind::bullet_softbody) {
       o << "stiffness = " << toml_string(reference::softbody_stiffness_name(e.bullet.stiffness))
         << "\n"
