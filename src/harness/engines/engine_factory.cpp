@@ -8,24 +8,6 @@
 
 namespace clothbench {
 
-const char* self_collision_name(SelfCollision s) {
-  switch (s) {
-    case SelfCollision::off:
-      return "off";
-    case SelfCollision::on:
-      return "on";
-    case SelfCollision::not_available:
-      return "not available";
-  }
-  throw std::logic_error("self_collision_name: a value without a case");
-}
-
-SelfCollision self_collision_of(const EngineSpec& spec, const cloth::ClothParams& cloth) {
-  if (!spec.self_collision.value_or(cloth.self_collision)) return SelfCollision::off;
-  return spec.kind == EngineKind::bullet_softbody ? SelfCollision::not_available
-                                                  : SelfCollision::on;
-}
-
 std::unique_ptr<cloth::Simulator> make_engine(const EngineSpec& spec, const cloth::Scene& scene) {
   // each engine sees the cloth with its own self-collision setting
   cloth::Scene own = scene;

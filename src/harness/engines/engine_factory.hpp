@@ -7,23 +7,10 @@
 
 #include "cloth/model/scene.hpp"
 #include "cloth/model/simulator.hpp"
+#include "harness/scenario/engine_refusal.hpp"
 #include "harness/scenario/scenario.hpp"
 
 namespace clothbench {
-
-/// Whether an engine keeps the cloth's layers apart.
-enum class SelfCollision {
-  off,           ///< neither the engine nor the cloth asks for it
-  on,            ///< asked for, and the engine does it
-  not_available  ///< the cloth asks for it and the engine cannot (bullet-softbody)
-};
-
-/// "off", "on" or "not available" (as run.json and summary.csv write it).
-const char* self_collision_name(SelfCollision s);
-
-/// The engine's self-collision: its own self_collision key, else the cloth's. An explicit
-/// engine-level true on an engine that cannot do it is refused by the loader first.
-SelfCollision self_collision_of(const EngineSpec& spec, const cloth::ClothParams& cloth);
 
 /// A new engine of spec.kind at the initial state of scene, with the cloth's self_collision
 /// replaced by the engine's own (self_collision_of). A scene the engine refuses

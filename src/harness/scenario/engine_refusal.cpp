@@ -14,6 +14,24 @@ const char* const kSoftbodyNoSelfCollision =
     "soft-soft collision off; set self_collision = false here, or leave it out (a cloth's "
     "self_collision = true is then noted as not available for this engine)";
 
+const char* self_collision_name(SelfCollision s) {
+  switch (s) {
+    case SelfCollision::off:
+      return "off";
+    case SelfCollision::on:
+      return "on";
+    case SelfCollision::not_available:
+      return "not available";
+  }
+  throw std::logic_error("self_collision_name: a value without a case");
+}
+
+SelfCollision self_collision_of(const EngineSpec& spec, const cloth::ClothParams& cloth) {
+  if (!spec.self_collision.value_or(cloth.self_collision)) return SelfCollision::off;
+  return spec.kind == EngineKind::bullet_softbody ? SelfCollision::not_available
+                                                  : SelfCollision::on;
+}
+
 std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
                                                  const cloth::Scene& scene) {
   switch (spec.kind) {

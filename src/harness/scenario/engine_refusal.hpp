@@ -15,6 +15,20 @@ namespace clothbench {
 /// Why an explicit self_collision = true on a bullet-softbody engine is refused.
 extern const char* const kSoftbodyNoSelfCollision;
 
+/// Whether an engine keeps the cloth's layers apart.
+enum class SelfCollision {
+  off,           ///< neither the engine nor the cloth asks for it
+  on,            ///< asked for, and the engine does it
+  not_available  ///< the cloth asks for it and the engine cannot (bullet-softbody)
+};
+
+/// "off", "on" or "not available" (as run.json and summary.csv write it).
+const char* self_collision_name(SelfCollision s);
+
+/// The engine's self-collision: its own self_collision key, else the cloth's. An explicit
+/// engine-level true on an engine that cannot do it is refused by the loader first.
+SelfCollision self_collision_of(const EngineSpec& spec, const cloth::ClothParams& cloth);
+
 /// Why an engine of spec cannot model scene (the feature, and the scenario keys to blame), or
 /// nullopt when it can. Pure: nothing is constructed. The custom engine models every scene.
 std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec, const cloth::Scene& scene);
