@@ -97,6 +97,11 @@ class Folder:
         facts = self.run_info.get("engine_kinds", {}).get(kind, {})
         return bool(facts.get("energy_gated", True)), str(facts.get("energy_note", ""))
 
+    def self_collision(self, engine):
+        """"on", "off" or "not available": the engine's self-collision as run.json gives it;
+        "" when run.json does not say (a run written before self-contact)."""
+        return str(self.run_info.get("self_collision", {}).get(engine, ""))
+
     def expected_order(self, integrator):
         """Order of accuracy of a custom integrator as run.json gives it, or None."""
         order = self.run_info.get("integrators", {}).get(integrator, {}).get("order")

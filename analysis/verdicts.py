@@ -152,12 +152,19 @@ def _drape_and_cost_lines(f):
     return lines
 
 
+def _self_collision_text(state):
+    """What the engine's self-collision was, as a parenthesis after its name."""
+    return {"on": " (self-contact on)", "off": " (self-contact off)",
+            "not available": " (self-contact not available in this engine)"}.get(state, "")
+
+
 def _layer_lines(f, engines):
     """Which engines let the cloth pass through itself (frames.csv's self_intersections), and
     how close the layers of the others came; nothing for runs written before it was measured."""
     if not f.has("frames.csv") or "self_intersections" not in f.table("frames.csv"):
         return []
     frames = f.table("frames.csv")
+    thickness = f.scenario.get("cloth", {}).get("thickness")
     crossed, lines = [], []
     for e in engines:
         rows = _sorted_rows(frames, e)
@@ -165,12 +172,13 @@ def _layer_lines(f, engines):
         seen = np.isfinite(counts)
         if not np.any(seen):
             continue
+        name = e + _self_collision_text(f.self_collision(e))
         if np.any(counts[seen] > 0):
             first = rows["t"][seen][counts[seen] > 0][0]
             worst = int(counts[seen].max())
             last = counts[seen][-1]
             crossed.append(e)
-            lines.append(("bad", f"{e}: LAYERS CROSSED from t = {num(first)} s: up to {worst} "
+            lines.append(("bad", f"{name}: LAYERS CROSSED from t = {num(first)} s: up to {worst} "
                           f"edge-triangle crossings in a frame, {int(last)} in its last measured "
                           "frame."))
         else:
@@ -180,7 +188,11 @@ def _layer_lines(f, engines):
             if len(gap):
                 touch = " (layers touching, none crossing)" if gap.min() == 0 else ""
                 closest = f"; closest approach {length(float(gap.min()))}{touch}"
-            lines.append(("ok", f"{e}: no crossing in any frame{closest}."))
+                if f.self_collision(e) == "on" and thickness:
+                    share = float(np.mean(gap >= 0.5 * thickness))
+                    closest += (f"; {100 * share:.0f} % of frames at or above half the thickness "
+                                f"({length(0.5 * float(thickness))})")
+            lines.append(("ok", f"{name}: no crossing in any frame{closest}."))
     if crossed:
         lines.insert(0, ("bad", "Engines that let the cloth pass through itself: "
                          + ", ".join(crossed) + "."))

@@ -3,6 +3,7 @@ the plot is drawn from frames.csv's columns, and runs written before the columns
 neither (no claim about what was not measured)."""
 
 import csv
+import json
 import os
 import shutil
 import tempfile
@@ -78,6 +79,40 @@ class SelfContactReport(unittest.TestCase):
         with_crossings(RUN, dst, lambda e, t: None if t > 0.2 else 0)
         lines = layer_lines(Folder(dst))
         self.assertTrue(all(kind == "ok" for kind, _ in lines))
+
+    def test_each_engine_says_whether_its_self_contact_was_on(self):
+        dst = os.path.join(self.tmp, "run")
+        # gaps of 0.01 m in every frame but a few at 0.001 m; thickness 0.004 m
+        with_crossings(RUN, dst, lambda e, t: 0)
+        path = os.path.join(dst, "frames.csv")
+        with open(path, newline="", encoding="utf-8") as f:
+            rows = list(csv.reader(f))
+        g, t = rows[0].index("min_self_distance"), rows[0].index("t")
+        for row in rows[1:]:
+            if float(row[t]) < 0.1 - 1e-9:
+                row[g] = "0.001"
+        with open(path, "w", newline="", encoding="utf-8") as f:
+            csv.writer(f, lineterminator="\n").writerows(rows)
+        with open(os.path.join(dst, "scenario.toml"), encoding="utf-8") as f:
+            scenario = f.read()
+        scenario = scenario.replace("[cloth]\n", "[cloth]\nthickness = 0.004\n", 1)
+        with open(os.path.join(dst, "scenario.toml"), "w", encoding="utf-8") as f:
+            f.write(scenario)
+        info_path = os.path.join(dst, "run.json")
+        with open(info_path, encoding="utf-8") as f:
+            info = json.load(f)
+        info["self_collision"] = {"custom-rk4": "on", "bullet-softbody": "not available"}
+        with open(info_path, "w", encoding="utf-8") as f:
+            json.dump(info, f)
+        folder = Folder(dst)
+        ok = {text.split(":")[0]: text for _, text in layer_lines(folder)}
+        self.assertIn("custom-rk4 (self-contact on)", ok)
+        self.assertIn("bullet-softbody (self-contact not available in this engine)", ok)
+        # the share of frames at or above half the thickness, from the column itself
+        times = sorted({float(r[t]) for r in rows[1:] if r[0] == "custom-rk4"})
+        share = sum(1 for x in times if x >= 0.1 - 1e-9) / len(times)
+        self.assertIn(f"{100 * share:.0f} % of frames at or above half the thickness",
+                      ok["custom-rk4 (self-contact on)"])
 
     def test_older_runs_get_no_layer_verdict_and_no_plot(self):
         f = Folder(RUN)
