@@ -5,20 +5,22 @@
 #include <cmath>
 #include <limits>
 #include <map>
-#include <queue>
 #include <random>
 #include <set>
 #include <utility>
 #include <vector>
 
 #include "cloth/analysis/element_distance.hpp"
-#include "cloth/analysis/exact_orient.hpp"
 #include "cloth/analysis/self_intersection.hpp"
 #include "cloth/contact/self_contact.hpp"
 #include "cloth/model/model.hpp"
+#include "mesh_brute_force.hpp"
 #include "tolerances.hpp"
 
 using namespace cloth;
+using clothbench::test::edge_crosses;
+using clothbench::test::graph_distances;
+using clothbench::test::unique_edges;
 
 namespace {
 
@@ -46,38 +48,6 @@ Matrix3X to_matrix(const std::vector<Vector3>& pts) {
   Matrix3X x(3, pts.size());
   for (std::size_t i = 0; i < pts.size(); ++i) x.col(static_cast<Eigen::Index>(i)) = pts[i];
   return x;
-}
-
-std::vector<std::pair<int, int>> unique_edges(const std::vector<Triangle>& tris) {
-  std::set<std::pair<int, int>> s;
-  for (const Triangle& t : tris)
-    for (int k = 0; k < 3; ++k) s.insert(std::minmax(t[k], t[(k + 1) % 3]));
-  return {s.begin(), s.end()};
-}
-
-/// Graph distances over mesh edges from every vertex (breadth-first search).
-std::vector<std::vector<int>> graph_distances(int n, const std::vector<Triangle>& tris) {
-  std::vector<std::vector<int>> adj(n);
-  for (const auto& [p, q] : unique_edges(tris)) {
-    adj[p].push_back(q);
-    adj[q].push_back(p);
-  }
-  std::vector<std::vector<int>> dist(n, std::vector<int>(n, std::numeric_limits<int>::max()));
-  for (int s = 0; s < n; ++s) {
-    std::queue<int> open;
-    dist[s][s] = 0;
-    open.push(s);
-    while (!open.empty()) {
-      const int v = open.front();
-      open.pop();
-      for (int w : adj[v])
-        if (dist[s][w] == std::numeric_limits<int>::max()) {
-          dist[s][w] = dist[s][v] + 1;
-          open.push(w);
-        }
-    }
-  }
-  return dist;
 }
 
 using PairKey = std::pair<int, std::array<int, 4>>;
@@ -114,16 +84,9 @@ int far_crossings(const Matrix3X& x, const std::vector<Triangle>& tris) {
   int count = 0;
   for (const auto& [p, q] : unique_edges(tris))
     for (const Triangle& t : tris) {
-      if (dist[p][t[0]] <= 2 || dist[p][t[1]] <= 2 || dist[p][t[2]] <= 2 || dist[q][t[0]] <= 2 ||
-          dist[q][t[1]] <= 2 || dist[q][t[2]] <= 2)
-        continue;
-      const Vector3 a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
-      const Vector3 xp = x.col(p), xq = x.col(q);
-      const int sp = orient3d_sign(a, b, c, xp), sq = orient3d_sign(a, b, c, xq);
-      if (sp == 0 || sq == 0 || sp == sq) continue;
-      const int s1 = orient3d_sign(xp, xq, a, b), s2 = orient3d_sign(xp, xq, b, c),
-                s3 = orient3d_sign(xp, xq, c, a);
-      if (s1 != 0 && s1 == s2 && s2 == s3) ++count;
+      bool near = false;
+      for (int k = 0; k < 3; ++k) near = near || dist[p][t[k]] <= 2 || dist[q][t[k]] <= 2;
+      if (!near) count += edge_crosses(x, p, q, t);
     }
   return count;
 }

@@ -117,17 +117,27 @@ class SelfContact {
   /// True when vertices v and w are at most two mesh edges apart (v == w included).
   bool within_two_rings(int v, int w) const;
 
+  /// The options the pass was built with.
   const SelfContactParams& params() const { return m_params; }
 
  private:
   struct Scratch;
   struct Pass;
+  /// Candidate pairs into s.pairs: elements whose boxes swept from a to b (3 by #P, m) come
+  /// within pad (m), minus the two-ring pairs (rings) or only the pairs sharing a vertex.
   void collect_pairs(const Matrix3X& a, const Matrix3X& b, double pad, bool rings,
                      Scratch& s) const;
+  /// Stage 1: proximity impulses, repulsion and friction at x_start.
   void proximity_pass(Pass& p);
+  /// One continuous check of every candidate: impulses on the colliding pairs, or (impulses
+  /// false) their vertices merged into zones; skip_rigid leaves out pairs inside a rigid zone.
+  /// Returns the number of collisions found.
   int collision_round(Pass& p, bool impulses, bool skip_rigid);
+  /// Stage 3: impact zones until collision free; false when the rounds ran out.
   bool zone_pass(Pass& p);
+  /// Replaces the velocities of one zone (root, its vertices) by its rigid motion.
   void rigidify(Pass& p, int root, const std::vector<int>& members);
+  /// True when the pair is left out: within two rings (rings) or sharing a vertex.
   bool excluded(PairKind kind, const std::array<int, 4>& q, bool rings) const;
 
   int m_count = 0;
