@@ -472,4 +472,7 @@ TEST_CASE("self-contact refuses bad input", "[self-contact]") {
   SelfContact contact(3, {{0, 1, 2}}, SelfContactParams{});
   Matrix3X x = Matrix3X::Zero(3, 2), v = Matrix3X::Zero(3, 2);
   CHECK_THROWS_AS(contact.resolve(0.01, x, x, v, VectorX::Ones(2)), std::invalid_argument);
+  Matrix3X x3 = Matrix3X::Zero(3, 3), v3 = Matrix3X::Zero(3, 3);
+  CHECK_THROWS_AS(contact.resolve(0.01, x3, x3, v3, -VectorX::Ones(3)), std::invalid_argument);
+  CHECK_THROWS_AS(contact.resolve(0.0, x3, x3, v3, VectorX::Ones(3)), std::invalid_argument);
 }

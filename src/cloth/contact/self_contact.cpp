@@ -397,9 +397,9 @@ SelfContact::SelfContact(int particle_count, std::vector<Triangle> triangles, Se
       !(p.aim_gap > p.min_gap) || !(p.min_gap > 0) || !(p.rest_gap > p.aim_gap) ||
       !(p.rest_gap <= 1) || p.ccd_iterations < 0 || p.zone_iterations < 1)
     throw std::invalid_argument(
-        "self-contact: friction and repulsion_stiffness must be >= 0, 0 < min_gap < aim_gap < "
-        "rest_gap <= 1, "
-        "ccd_iterations >= 0 and zone_iterations >= 1");
+        "self-contact: friction and repulsion_stiffness must be >= 0, "
+        "0 < min_gap < aim_gap < rest_gap <= 1, ccd_iterations >= 0 "
+        "and zone_iterations >= 1");
   // the unique edges
   for (std::size_t t = 0; t < m_triangles.size(); ++t)
     for (int k = 0; k < 3; ++k) {
@@ -715,6 +715,8 @@ SelfContactStats SelfContact::resolve(double h, const Matrix3X& x_start, Matrix3
         std::to_string(m_count) + ")");
   if (!(h > 0) || !std::isfinite(h))
     throw std::invalid_argument("self-contact: the step must be positive and finite");
+  if (!inv_mass.allFinite() || (inv_mass.array() < 0).any())
+    throw std::invalid_argument("self-contact: inverse masses must be finite and >= 0");
   m_vbar = (x - x_start) / h;
   Pass p{h, x_start, inv_mass, *m_scratch.ptr, m_vbar, {}};
   // proximity impulses, collision impulses, then impact zones until collision free
