@@ -44,8 +44,9 @@
 /// Broad phase: a uniform spatial hash rebuilt on every query over the elements' boxes swept
 /// from start to end positions and inflated by the padding (cells the median triangle box
 /// size, at least twice the padding); cost linear in the elements. A box over more than 64
-/// cells is checked against every other element instead. Deterministic: pairs are visited in
-/// element order. Buffers are members, so calls after the first do not allocate.
+/// cells is checked against every other element instead. Deterministic: the same input gives
+/// the same pairs in the same order. resolve() keeps its buffers as members, so it allocates
+/// only when a call needs more room than every earlier one (proximities() allocates).
 
 #include <array>
 #include <cstdint>
