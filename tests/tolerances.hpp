@@ -66,4 +66,21 @@ constexpr double kMeanEdgeLengthRelative = 0.25;
 /// formulas on the same pairs, so only the order of a few operations may differ.
 constexpr double kDistanceRoundoff = 1e-12;  // m
 
+/// Self-contact: a vertex resting on a held layer under gravity. The repulsion lifts it to the
+/// rest distance by a factor 0.9 of the remaining gap per step, so 1800 steps after landing
+/// only round-off of the 1e-3 m coordinates is left.
+constexpr double kRestAtThicknessRelative = 1e-9;
+/// ... and its velocity then: the gap left times 0.1 / h, round-off only.
+constexpr double kRestVelocity = 1e-9;  // m/s
+/// Momentum before and after one self-contact pass: impulses with weights summing to zero
+/// over O(100) particles of O(0.01) kg at O(10) m/s, round-off of a few eps per term.
+constexpr double kContactMomentum = 1e-12;  // kg m/s (and kg m^2/s)
+/// A vertex held by friction: the tangential velocity is cancelled to round-off each step
+/// (O(1e-18) m/s), so over 500 steps it moves by far less than this.
+constexpr double kStickDisplacement = 1e-9;  // m
+/// A vertex sliding with friction: it stays in the contact band at the rest distance, so every
+/// step friction removes exactly mu times the normal speed change and symplectic Euler follows
+/// s_N = a h^2 N (N + 1) / 2 exactly; round-off of 500 steps (measured 1e-14) only.
+constexpr double kSlideAccelerationRelative = 1e-9;
+
 }  // namespace clothbench::tol

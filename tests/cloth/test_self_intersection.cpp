@@ -15,9 +15,13 @@
 #include "cloth/analysis/exact_orient.hpp"
 #include "cloth/analysis/self_intersection.hpp"
 #include "cloth/model/model.hpp"
+#include "mesh_brute_force.hpp"
 #include "tolerances.hpp"
 
 using namespace cloth;
+using clothbench::test::edge_crosses;
+using clothbench::test::graph_distances;
+using clothbench::test::unique_edges;
 
 namespace {
 
@@ -57,53 +61,15 @@ std::int64_t integer(std::mt19937_64& rng, std::int64_t lo, std::int64_t hi) {
   return lo + static_cast<std::int64_t>(rng() % std::uint64_t(hi - lo + 1));
 }
 
-std::vector<std::pair<int, int>> unique_edges(const std::vector<Triangle>& tris) {
-  std::set<std::pair<int, int>> s;
-  for (const Triangle& t : tris)
-    for (int k = 0; k < 3; ++k) s.insert(std::minmax(t[k], t[(k + 1) % 3]));
-  return {s.begin(), s.end()};
-}
-
-/// Every edge against every triangle, the crossing rule written out.
+/// Every edge against every triangle sharing no vertex with it.
 int brute_crossings(const Matrix3X& x, const std::vector<Triangle>& tris) {
   int count = 0;
   for (const auto& [p, q] : unique_edges(tris))
     for (const Triangle& t : tris) {
       if (std::count(t.begin(), t.end(), p) || std::count(t.begin(), t.end(), q)) continue;
-      const Vector3 a = x.col(t[0]), b = x.col(t[1]), c = x.col(t[2]);
-      const Vector3 xp = x.col(p), xq = x.col(q);
-      const int sp = orient3d_sign(a, b, c, xp), sq = orient3d_sign(a, b, c, xq);
-      if (sp == 0 || sq == 0 || sp == sq) continue;
-      const int s1 = orient3d_sign(xp, xq, a, b), s2 = orient3d_sign(xp, xq, b, c),
-                s3 = orient3d_sign(xp, xq, c, a);
-      if (s1 != 0 && s1 == s2 && s2 == s3) ++count;
+      count += edge_crosses(x, p, q, t);
     }
   return count;
-}
-
-/// Graph distances over mesh edges from every vertex (breadth-first search).
-std::vector<std::vector<int>> graph_distances(int n, const std::vector<Triangle>& tris) {
-  std::vector<std::vector<int>> adj(n);
-  for (const auto& [p, q] : unique_edges(tris)) {
-    adj[p].push_back(q);
-    adj[q].push_back(p);
-  }
-  std::vector<std::vector<int>> dist(n, std::vector<int>(n, std::numeric_limits<int>::max()));
-  for (int s = 0; s < n; ++s) {
-    std::queue<int> open;
-    dist[s][s] = 0;
-    open.push(s);
-    while (!open.empty()) {
-      const int v = open.front();
-      open.pop();
-      for (int w : adj[v])
-        if (dist[s][w] == std::numeric_limits<int>::max()) {
-          dist[s][w] = dist[s][v] + 1;
-          open.push(w);
-        }
-    }
-  }
-  return dist;
 }
 
 /// Every vertex-triangle and edge-edge pair more than two rings apart, capped at the cutoff.
