@@ -28,6 +28,13 @@ MassSpringCloth::MassSpringCloth(Model model, const SolverOptions& options)
     m_newton = std::make_unique<ImplicitEulerNewton>(m_model, options);
   if (options.integrator == Integrator::projective)
     m_projective = std::make_unique<ProjectiveSolver>(m_model);
+  if (m_model.self_collision) {
+    SelfContactParams p;
+    p.thickness = m_model.thickness;
+    p.friction = m_model.self_friction;
+    m_self = std::make_unique<SelfContact>(static_cast<int>(n), m_model.triangles, p);
+    m_self_inv_mass.setZero(n);
+  }
 }
 
 void MassSpringCloth::set_state(const Matrix3X& x, const Matrix3X& v) {
@@ -77,13 +84,14 @@ double MassSpringCloth::step_rk4(double h) {
 void MassSpringCloth::step(double h) {
   // handles: their particles carry the path's velocity over the step (held axes keep it)
   if (!m_model.handles.empty()) start_handles(h);
-  if (!m_model.shapes.empty()) m_x_start = m_x;  // friction shortens the step's travel
+  // friction shortens the step's travel; self-contact checks the step's path
+  if (!m_model.shapes.empty() || m_self) m_x_start = m_x;
   integrate(h);
   m_t += h;
   ++m_counters.steps;
   if (!m_model.handles.empty()) finish_handles(h);
-  // a scene without colliders skips the contact pass altogether
-  if (!m_model.spheres.empty() || !m_model.shapes.empty()) resolve_contacts(h);
+  // a scene without colliders or self-contact skips the contact pass altogether
+  if (!m_model.spheres.empty() || !m_model.shapes.empty() || m_self) resolve_contacts(h);
 }
 
 void MassSpringCloth::integrate(double h) {
@@ -185,8 +193,9 @@ void MassSpringCloth::resolve_contacts(double h) {
   m_x1 = m_x;
   m_v1 = m_v;
   ContactTally tally;
-  // the solve's contacts the pass does not count are counted after it
-  if (m_newton) {
+  // the solve's contacts the pass does not count are counted after it; self-contact holds
+  // the particles a collider touched
+  if (m_newton || m_self) {
     m_touched.assign(static_cast<size_t>(m_x.cols()), 0);
     tally.touched = &m_touched;
   }
@@ -200,6 +209,7 @@ void MassSpringCloth::resolve_contacts(double h) {
                                                        m_model.free, m_model.mass, tally);
   m_contacts = tally.contacts + held_in_solve_only();
   m_contact_impulse += tally.impulse;
+  if (m_self) resolve_self_contact(h);
   // kinetic and gravity parts particle by particle (no temporaries), so the difference
   // carries no round-off of the cloth's whole energy
   double work = 0.0;
@@ -214,6 +224,23 @@ void MassSpringCloth::resolve_contacts(double h) {
   // the springs only when a particle moved: a cloth at rest beside the sphere pays nothing
   if (moved) work += elastic_energy(m_model.springs, m_x) - elastic_energy(m_model.springs, m_x1);
   m_contact_work += work;
+}
+
+void MassSpringCloth::resolve_self_contact(double h) {
+  // held (any axis), handled and collider-touched particles are infinitely heavy: a layer
+  // cannot push them, so a collider cannot push a particle through the layer above
+  for (Eigen::Index p = 0; p < m_x.cols(); ++p) {
+    const bool heavy = m_model.free.col(p).minCoeff() == 0.0 || m_touched[static_cast<size_t>(p)];
+    m_self_inv_mass[p] = heavy ? 0.0 : m_model.inv_mass[p];
+  }
+  // the line-search solve's pushing contacts too
+  if (m_newton) {
+    const std::vector<ContactConstraint>& held = m_newton->contacts();
+    for (size_t k = 0; k < held.size(); ++k)
+      if (m_newton->impulses()[k] > 0.0) m_self_inv_mass[held[k].particle] = 0.0;
+  }
+  m_self_stats = m_self->resolve(h, m_x_start, m_x, m_v, m_self_inv_mass);
+  m_counters.self_contact_tests += m_self_stats.tests;
 }
 
 int MassSpringCloth::held_in_solve_only() const {

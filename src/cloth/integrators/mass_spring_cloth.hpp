@@ -5,6 +5,7 @@
 #include <memory>
 #include "cloth/solvers/conjugate_gradient.hpp"
 
+#include "cloth/contact/self_contact.hpp"
 #include "cloth/forces/spring_jacobians.hpp"
 #include "cloth/integrators/implicit_euler.hpp"
 #include "cloth/integrators/projective.hpp"
@@ -43,6 +44,10 @@ class MassSpringCloth final : public Simulator {
   const SolverOptions& options() const { return m_options; }
   /// The line-search Newton solver of implicit Euler; null in the other modes.
   const ImplicitEulerNewton* newton() const { return m_newton.get(); }
+  /// The self-contact pass; null when the cloth has no self-collision.
+  const SelfContact* self_contact() const { return m_self.get(); }
+  /// What the last step's self-contact pass did (all zero without self-collision).
+  const SelfContactStats& self_contact_stats() const { return m_self_stats; }
 
   /// Accelerations at state (x, v), held axes zeroed; counts one force evaluation.
   /// @param a  3 by #P accelerations (m/s^2), written
@@ -59,8 +64,12 @@ class MassSpringCloth final : public Simulator {
   /// Particles the line-search solve held on a collider with a pushing impulse that the
   /// contact pass after it did not count (m_touched).
   int held_in_solve_only() const;
-  /// Resolves collider contacts after a step and books their work in m_contact_work.
+  /// Resolves collider contacts and then self-contact after a step and books their work in
+  /// m_contact_work.
   void resolve_contacts(double h);
+  /// The self-contact pass over the step from m_x_start, with held, handled and
+  /// collider-touched particles infinitely heavy (m_touched: the collider pass's contacts).
+  void resolve_self_contact(double h);
   /// Gives the handle particles their path's velocity over the next step of h seconds.
   void start_handles(double h);
   /// Puts the handle particles exactly on their path at the step's end.
@@ -88,8 +97,12 @@ class MassSpringCloth final : public Simulator {
   CgWorkspace m_cg;
   std::unique_ptr<ImplicitEulerNewton> m_newton;   // implicit-euler with newton = line-search
   std::unique_ptr<ProjectiveSolver> m_projective;  // projective
-  std::vector<char> m_touched;  // line-search: particles the last contact pass counted
-  VectorX m_lambda;             // xpbd: the springs' multipliers
+  std::vector<char> m_touched;          // line-search or self-contact: particles the last contact
+                                        // pass counted
+  std::unique_ptr<SelfContact> m_self;  // self-collision; null without
+  SelfContactStats m_self_stats;        // the last step's self-contact pass
+  VectorX m_self_inv_mass;              // #P inverse masses in the self-contact pass
+  VectorX m_lambda;                     // xpbd: the springs' multipliers
 };
 
 }  // namespace cloth

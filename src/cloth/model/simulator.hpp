@@ -20,6 +20,7 @@ struct Counters {
   std::int64_t cg_unconverged = 0;          // linear solves that stopped at the iteration limit
   std::int64_t constraint_projections = 0;  // xpbd: one spring constraint projected once
   std::int64_t linear_solves = 0;           // projective: prefactored global solves (3 axes each)
+  std::int64_t self_contact_tests = 0;      // self-contact narrow-phase pair tests
 };
 
 /// One engine running one scene. Particle order, masses and units are the scene's.
