@@ -124,6 +124,30 @@ TEST_CASE("bullet-deformable refuses a mesh of two pieces", "[bullet][self-conta
   CHECK_FALSE(clothbench::reference::deformable_refusal({}, folded_strip()));
 }
 
+TEST_CASE("bullet-deformable self-collision shares the colliders' margin or is refused",
+          "[bullet][self-contact]") {
+  Scene s = folded_strip();
+  s.cloth.self_collision = true;
+  Sphere ball;  // margin 0.01 m
+  ball.center = {0.1, -0.5, 0.0};
+  ball.radius = 0.2;
+  s.spheres.push_back(ball);
+  // half the default 4 mm thickness is not the sphere's 1 cm margin
+  const auto refusal = clothbench::reference::deformable_refusal({}, s);
+  REQUIRE(refusal);
+  CHECK(refusal->why.find("one collision margin") != std::string::npos);
+  // equal margins: by the thickness or by the option
+  Scene thick = s;
+  thick.cloth.thickness = 0.02;
+  CHECK_FALSE(clothbench::reference::deformable_refusal({}, thick));
+  BulletOptions o;
+  o.collision_margin = 0.01;
+  CHECK_FALSE(clothbench::reference::deformable_refusal(o, s));
+  // with self-collision off the margins never meet
+  s.cloth.self_collision = false;
+  CHECK_FALSE(clothbench::reference::deformable_refusal({}, s));
+}
+
 TEST_CASE("bullet-deformable self-collision holds a falling layer two margins up",
           "[bullet][self-contact]") {
   const Scene s = folded_strip();
