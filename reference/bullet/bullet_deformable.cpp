@@ -6,9 +6,16 @@
 #include <BulletSoftBody/btDeformableMultiBodyConstraintSolver.h>
 #include <BulletSoftBody/btDeformableMultiBodyDynamicsWorld.h>
 
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "cloth/model/triangle_mesh.hpp"
 #include "format/number_format.hpp"
 #include "reference/bullet/bullet_cloth.hpp"
 
@@ -42,6 +49,7 @@ class BulletDeformableCloth final : public BulletCloth {
     m_body->m_cfg.collisions = btSoftBody::fCollision::SDF_RD | btSoftBody::fCollision::SDF_RDN;
     m_body->m_cfg.drag = 0.0;
     set_contact_config(*m_body, scene);
+    if (scene.cloth.self_collision) turn_on_self_collision(o, scene);
     m_world->addSoftBody(m_body);
 
     // forces: the report's springs (damping along the spring) and gravity, which the world's
@@ -68,8 +76,25 @@ class BulletDeformableCloth final : public BulletCloth {
     step_world(*m_world, m_world->getWorldInfo(), *m_spheres, time(), dt);
   }
   bool had_contact() const override {
-    // the step's node and face contacts with rigid bodies (cleared as the next step begins)
-    return m_body->m_nodeRigidContacts.size() > 0 || m_body->m_faceRigidContacts.size() > 0;
+    // the step's node and face contacts with rigid bodies and its self-contacts (all cleared
+    // as the next step begins); there are no self-contacts with self-collision off
+    return m_body->m_nodeRigidContacts.size() > 0 || m_body->m_faceRigidContacts.size() > 0 ||
+           m_body->m_faceNodeContacts.size() > 0;
+  }
+
+  /// Bullet's vertex-face self-collision (see make_bullet_deformable).
+  void turn_on_self_collision(const BulletOptions& o, const cloth::Scene& scene) {
+    // both switches: VF_DD routes the body's own pair to CollideFF_DD, and only when
+    // m_useSelfCollision is set (btSoftBody.cpp:4198-4249)
+    m_body->m_cfg.collisions |= btSoftBody::fCollision::VF_DD;
+    m_body->setSelfCollision(true);
+    // the repulsion; setSpringStiffness also writes every link material's kLST, which only the
+    // classic solver reads (btDeformableMassSpringForce.h:111 reads its own stiffness)
+    m_body->setSpringStiffness(o.repulsion_stiffness);
+    // equal to the colliders' margin when there are colliders (deformable_refusal checks)
+    m_body->getCollisionShape()->setMargin(self_collision_margin(o, scene));
+    // the face tree and its normal-cone copy are built by Bullet's first step, as SDF_RD is
+    // on and building the body set m_bUpdateRtCst (btDeformableBodySolver.cpp:428-436)
   }
 
   // declared in the order they are needed, so they are freed in reverse
@@ -82,10 +107,92 @@ class BulletDeformableCloth final : public BulletCloth {
   std::unique_ptr<ColliderBodies> m_spheres;
 };
 
+/// True when every triangle reaches every other through triangles sharing an edge (none or
+/// one triangle included).
+bool edge_connected(const std::vector<cloth::Triangle>& triangles) {
+  const int n = static_cast<int>(triangles.size());
+  std::vector<int> root(static_cast<size_t>(n));
+  std::iota(root.begin(), root.end(), 0);
+  const auto find = [&](int t) {
+    while (root[size_t(t)] != t) t = root[size_t(t)] = root[size_t(root[size_t(t)])];
+    return t;
+  };
+  // join the triangles of each edge
+  std::map<std::pair<int, int>, int> first;
+  int parts = n;
+  for (int t = 0; t < n; ++t)
+    for (int k = 0; k < 3; ++k) {
+      const int a = triangles[size_t(t)][size_t(k)], b = triangles[size_t(t)][size_t((k + 1) % 3)];
+      const auto [it, fresh] = first.emplace(std::minmax(a, b), t);
+      if (fresh) continue;
+      const int ra = find(t), rb = find(it->second);
+      if (ra == rb) continue;
+      root[size_t(ra)] = rb;
+      --parts;
+    }
+  return parts <= 1;
+}
+
+/// What self-collision needs of the options and the scene (with it on), or nullopt.
+std::optional<Refusal> self_collision_refusal(const BulletOptions& o, const cloth::Scene& scene) {
+  const std::string who = std::string(kKind) + ": ";
+  if (!(o.repulsion_stiffness >= 0.0) || !std::isfinite(o.repulsion_stiffness))
+    return Refusal{who + "repulsion_stiffness must be finite and not negative, got " +
+                       cloth::toml_double(o.repulsion_stiffness) + " N/m",
+                   {},
+                   {"repulsion_stiffness"}};
+  if (!(o.collision_margin >= 0.0) || !std::isfinite(o.collision_margin))
+    return Refusal{who + "collision_margin must be finite and not negative, got " +
+                       cloth::toml_double(o.collision_margin) + " m",
+                   {},
+                   {"collision_margin"}};
+  if (!scene.cloth.self_collision) return std::nullopt;
+  const double margin = self_collision_margin(o, scene);
+  if (!(margin > 0.0) || !std::isfinite(margin))
+    return Refusal{who + "self-collision needs a positive margin: cloth.thickness is " +
+                       cloth::toml_double(scene.cloth.thickness) +
+                       " m and collision_margin is 0 (give either a positive value)",
+                   {"cloth.thickness"},
+                   {"collision_margin"}};
+  // one btCollisionShape margin serves both: rigid contacts and, doubled, self-contacts
+  const cloth::Scene& s = scene;
+  const bool has_colliders = !s.spheres.empty() || !s.shapes.planes.empty() ||
+                             !s.shapes.boxes.empty() || !s.shapes.capsules.empty() ||
+                             !s.shapes.cylinders.empty();
+  if (has_colliders && margin != collider_margin(scene))
+    return Refusal{
+        who +
+            "self-collision and collider contact share the soft body's one collision margin, "
+            "but the colliders' margin is " +
+            cloth::toml_double(collider_margin(scene)) + " m and self-collision needs " +
+            cloth::toml_double(margin) +
+            " m (collision_margin, or half of cloth.thickness when it is 0); make them equal "
+            "(cloth.thickness = twice the colliders' margin, or collision_margin = the "
+            "colliders' margin), or turn self-collision off for this engine",
+        {"cloth.thickness", "cloth.self_collision"},
+        {"collision_margin", "self_collision"}};
+  return std::nullopt;
+}
+
 }  // namespace
+
+double self_collision_margin(const BulletOptions& options, const cloth::Scene& scene) {
+  return options.collision_margin > 0.0 ? options.collision_margin : 0.5 * scene.cloth.thickness;
+}
 
 std::optional<Refusal> deformable_refusal(const BulletOptions& o, const cloth::Scene& scene) {
   if (auto refusal = bullet_scene_refusal(scene, kKind)) return refusal;
+  // Bullet 3.24 builds the face tree (initializeFaceTree, on the first step because SDF_RD is
+  // on) by merging faces that share an edge until one node is left (buildTreeBottomUp,
+  // btSoftBody.cpp:29-124): with two or more edge-connected pieces that loop never ends
+  if (scene.mesh && !edge_connected(scene.mesh->triangles))
+    return Refusal{std::string(kKind) +
+                       " cannot model this mesh: its triangles are not one piece joined by "
+                       "shared edges, and Bullet 3.24's deformable body then never finishes "
+                       "building its face tree (the first step hangs); join the pieces or run "
+                       "this scene on other engines",
+                   {"cloth.mesh"},
+                   {}};
   const cloth::ClothParams& c = scene.cloth;
   // btDeformableMassSpringForce has one elastic stiffness for every non-bending link
   // (a grid one particle wide has no shear springs, whatever their stiffness)
@@ -125,7 +232,7 @@ std::optional<Refusal> deformable_refusal(const BulletOptions& o, const cloth::S
                        "node-sized vectors)",
                    {},
                    {"projection", "implicit"}};
-  return std::nullopt;
+  return self_collision_refusal(o, scene);
 }
 
 std::unique_ptr<cloth::Simulator> make_bullet_deformable(const BulletOptions& options,

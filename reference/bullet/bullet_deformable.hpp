@@ -14,10 +14,22 @@
 namespace clothbench::reference {
 
 /// Why bullet-deformable cannot model scene with options (naming the feature and the keys to
-/// blame), or nullopt: what every Bullet engine refuses (bullet_scene_refusal), structural and
-/// shear stiffness that differ (one stiffness for both), and option combinations Bullet
-/// ignores or mishandles. Builds nothing.
+/// blame), or nullopt: what every Bullet engine refuses (bullet_scene_refusal), a mesh whose
+/// triangles are not one piece joined by shared edges (Bullet 3.24's face tree never finishes
+/// on it, with or without self-collision: the first step hangs), structural and
+/// shear stiffness that differ (one stiffness for both), option combinations Bullet
+/// ignores or mishandles, a negative repulsion_stiffness or collision_margin, and, with
+/// scene.cloth.self_collision, a self-collision margin (self_collision_margin) that is not
+/// positive or differs from the colliders' margin (Bullet has one margin for both). Builds
+/// nothing.
 std::optional<Refusal> deformable_refusal(const BulletOptions& options, const cloth::Scene& scene);
+
+/// The soft body's collision margin with self-collision on (m): options.collision_margin, or
+/// half of scene.cloth.thickness when that is 0. Bullet's self-contact test (CollideFF_DD)
+/// takes twice the margin as its proximity distance (btSoftBody.cpp:4237) and its repulsion
+/// pushes a node until it is that far from the face's plane (btSoftBody.h:1342-1357), so half
+/// the thickness keeps the layers about one thickness apart.
+double self_collision_margin(const BulletOptions& options, const cloth::Scene& scene);
 
 /// A btDeformableMultiBodyDynamicsWorld with one cloth driven by
 /// btDeformableMassSpringForce(k, c, true, k_bend) (damping along the spring, our formula)
@@ -33,6 +45,33 @@ std::optional<Refusal> deformable_refusal(const BulletOptions& options, const cl
 /// contacts (SDF_RDF, used by Bullet's demos) are left off: with them the implicit scheme blows
 /// up on the seed scene at dt = 1e-3 and 4e-3 s, also with k = 200 N/m and also when the
 /// cloth starts 5 cm clear of the sphere, so they, not the start in contact, are its cause.
+///
+/// Self-collision (scene.cloth.self_collision; off: none of this is done and the engine is
+/// what it was without these options): Bullet's own, both VF_DD and setSelfCollision(true)
+/// (btSoftBody.cpp:4065), with self_collision_margin as the body's margin. After the step's
+/// solve, CollideFF_DD pairs the faces of the body's face tree and records each node within
+/// 2 x margin of a face's plane and over it (proximityTest, btSoftBodyInternals.h:66); it
+/// skips face pairs that share a node (btSoftBodyInternals.h:1992-2001) and tests vertex
+/// against face only, never edge against edge. Each contact gets a repulsion impulse
+/// min(repulsion_stiffness dt d, m (0.1 d / dt - v_n)) plus half the approach momentum
+/// (btSoftBody::applyRepulsionForce, btSoftBody.h:1317-1390), applied in an order shuffled
+/// from a seed that is never reset (btSoftBody.h:39); up to 5 rounds of vertex-face CCD then
+/// re-apply the inelastic part to the same discrete contacts
+/// (btDeformableMultiBodyDynamicsWorld.cpp:176-258). repulsion_stiffness (N/m) is Bullet's
+/// m_repulsionStiffness, set with setSpringStiffness; Bullet's default is 0.5
+/// (btSoftBody.cpp:230), and so is ours. setSpringStiffness also writes the kLST of every
+/// link's material (btSoftBody.cpp:3453-3460), which only the classic solver reads:
+/// btDeformableMassSpringForce uses its own stiffness (btDeformableMassSpringForce.h:111).
+/// As read, not measured: the face-pair traversal (btDbvt::selfCollideT, btDbvt.h:887-947)
+/// enters a subtree's own pairs only when its normal-cone angle exceeds pi
+/// (calculateNormalCone, btSoftBody.cpp:2611-2640), so layers in a subtree of nearly parallel
+/// faces are not tested against each other. Measured (test_bullet_self_collision.cpp): the
+/// flat top layer of a folded strip falls onto its held bottom layer and rests 2 x margin
+/// above it (3.998-4.000 mm for a 2 mm margin), while nodes of the fold still pass through the
+/// bottom layer (8 crossings). The self-contact friction is kDF x kDF of the body
+/// (btSoftBodyInternals.h:2034), and kDF is 1 here because it also scales the colliders'
+/// friction: cloth.self_friction is not mapped (Bullet's self-contact friction is 1).
+/// Self-contacts count as contacts for unbooked().
 ///
 /// A cloth starting inside the contact shell starts on it (start_positions). Bullet resolves
 /// such an overlap with split impulses (at most m_deformable_maxErrorReduction = 0.1 m/s a

@@ -21,7 +21,8 @@ constexpr const char* kKind = "bullet-softbody";
 /// One cloth in its own classic soft-rigid world.
 class BulletSoftBodyCloth final : public BulletCloth {
  public:
-  BulletSoftBodyCloth(const BulletOptions& o, double dt, const cloth::Scene& scene)
+  BulletSoftBodyCloth(const BulletOptions& o, double dt, const cloth::Scene& scene,
+                      SoftbodySelfFlags flags)
       : BulletCloth(scene, Dissipation::energy_balance), m_options(o), m_dt(dt) {
     // the world; it creates and owns its default soft-body solver
     m_world = std::make_unique<btSoftRigidDynamicsWorld>(
@@ -49,6 +50,7 @@ class BulletSoftBodyCloth final : public BulletCloth {
     cfg.diterations = 0;
     cfg.kDP = 0.0;  // no extra velocity damping: the projection alone
     cfg.collisions = btSoftBody::fCollision::SDF_RS;
+    add_self_flags(flags);
     set_contact_config(*m_body, scene);
     m_world->addSoftBody(m_body);
 
@@ -75,6 +77,18 @@ class BulletSoftBodyCloth final : public BulletCloth {
       material->m_kVST = 1.0;
     }
     m_dt = dt;
+  }
+
+  /// Adds Bullet's classic self-collision switches (none for the engine itself).
+  void add_self_flags(SoftbodySelfFlags flags) {
+    using F = btSoftBody::fCollision;
+    if (flags == SoftbodySelfFlags::vf_ss) m_body->m_cfg.collisions |= F::VF_SS;
+    if (flags == SoftbodySelfFlags::cl_ss || flags == SoftbodySelfFlags::cl_ss_self) {
+      // a cluster per face; clusters that share a node never collide (btSoftBody.cpp:1683-1704)
+      m_body->generateClusters(0);
+      m_body->m_cfg.collisions |= F::CL_SS;
+    }
+    if (flags == SoftbodySelfFlags::cl_ss_self) m_body->m_cfg.collisions |= F::CL_SELF;
   }
 
   void advance(double dt) override {
@@ -121,9 +135,20 @@ std::optional<Refusal> softbody_refusal(const BulletOptions& o, double dt,
 
 std::unique_ptr<cloth::Simulator> make_bullet_softbody(const BulletOptions& options, double dt,
                                                        const cloth::Scene& scene) {
+  return make_bullet_softbody_with_flags(options, dt, scene, SoftbodySelfFlags::none);
+}
+
+bool softbody_self_collision_available() {
+  return false;
+}
+
+std::unique_ptr<cloth::Simulator> make_bullet_softbody_with_flags(const BulletOptions& options,
+                                                                  double dt,
+                                                                  const cloth::Scene& scene,
+                                                                  SoftbodySelfFlags flags) {
   if (const auto refusal = softbody_refusal(options, dt, scene))
     throw std::invalid_argument(refusal->why);
-  return std::make_unique<BulletSoftBodyCloth>(options, dt, scene);
+  return std::make_unique<BulletSoftBodyCloth>(options, dt, scene, flags);
 }
 
 }  // namespace clothbench::reference

@@ -35,4 +35,40 @@ std::optional<Refusal> softbody_refusal(const BulletOptions& options, double dt,
 std::unique_ptr<cloth::Simulator> make_bullet_softbody(const BulletOptions& options, double dt,
                                                        const cloth::Scene& scene);
 
+/// Why bullet-softbody has no cloth self-collision, for the harness to print.
+inline constexpr const char* kSoftbodyNoSelfCollision =
+    "bullet-softbody: not available: Bullet 3.24's classic soft body has no working cloth "
+    "self-collision (vertex-face VF_SS skips a body's own pair, cluster CL_SS collides a body "
+    "with itself only with CL_SELF, and CL_SS | CL_SELF matches no case of its collision "
+    "switch); the run goes on without it";
+
+/// False: bullet-softbody cannot keep a cloth's layers apart (kSoftbodyNoSelfCollision).
+/// btSoftRigidDynamicsWorld collides each soft body with itself every step
+/// (btSoftRigidDynamicsWorld.cpp:93-98), and btSoftBody::defaultCollisionHandler(btSoftBody*)
+/// (btSoftBody.cpp:4158-4256) switches on (flags & SVSmask) of the pair: VF_SS (0x10) runs only
+/// when the two bodies differ (btSoftBody.cpp:4174-4177), CL_SS (0x20) runs on one body only
+/// with CL_SELF (0x40) also set (:4164-4167), and 0x20 | 0x40 = 0x60 is none of the case labels
+/// 0x10, 0x20, 0x80 (btSoftBody.h:169-172), so it falls to the empty default. A scene with
+/// cloth.self_collision = true runs on this engine without self-collision (make_bullet_softbody
+/// ignores the flag). tests/reference/test_bullet_self_collision.cpp runs every combination.
+bool softbody_self_collision_available();
+
+/// Bullet's classic self-collision switches, for the test that shows they do nothing.
+enum class SoftbodySelfFlags {
+  none,       ///< the engine as make_bullet_softbody builds it
+  vf_ss,      ///< collisions |= VF_SS
+  cl_ss,      ///< generateClusters(0) (a cluster per face), collisions |= CL_SS
+  cl_ss_self  ///< as cl_ss, and collisions |= CL_SELF
+};
+
+/// make_bullet_softbody's engine with flags added to the soft body's collision flags (and
+/// clusters built for the cluster flags): evidence for softbody_self_collision_available, not
+/// an engine of the harness. With vf_ss, btSoftBody::predictMotion builds the face tree
+/// (btSoftBody.cpp:2108-2112), which never finishes on a mesh in several pieces
+/// (btSoftBody.cpp:29-124): do not pass one. Throws like make_bullet_softbody.
+std::unique_ptr<cloth::Simulator> make_bullet_softbody_with_flags(const BulletOptions& options,
+                                                                  double dt,
+                                                                  const cloth::Scene& scene,
+                                                                  SoftbodySelfFlags flags);
+
 }  // namespace clothbench::reference
