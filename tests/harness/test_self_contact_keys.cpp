@@ -198,3 +198,15 @@ TEST_CASE("the same fold with and without the engine-level override", "[runner][
   // without it the folded layer (no bend springs to hold it up) falls through the one below
   CHECK(off_crossings > 0);
 }
+
+TEST_CASE("bullet-deformable's margin check reads the engine's own self_collision",
+          "[scenario][self-contact]") {
+  // a floor of margin 0.01 m and a thickness of 0.004 m: Bullet's one margin cannot be both
+  const std::string floor = "self_collision = true\n[[plane]]\nnormal = [0.0, 1.0, 0.0]\n";
+  CHECK_THAT(error_of([&] { parse_scenario(three_engines(floor), "x.toml"); }),
+             Contains("share the soft body's one collision margin"));
+  // without self-collision in that engine the margins do not meet
+  CHECK_NOTHROW(parse_scenario(three_engines(floor), "x.toml", {"engine.d.self_collision=false"}));
+  // equal margins: accepted with it on
+  CHECK_NOTHROW(parse_scenario(three_engines(floor), "x.toml", {"cloth.thickness=0.02"}));
+}

@@ -37,8 +37,12 @@ std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
   switch (spec.kind) {
     case EngineKind::custom:
       return std::nullopt;
-    case EngineKind::bullet_deformable:
-      return reference::deformable_refusal(spec.bullet, scene);
+    case EngineKind::bullet_deformable: {
+      // the engine sees the cloth with its own self-collision setting
+      cloth::Scene own = scene;
+      own.cloth.self_collision = self_collision_of(spec, scene.cloth) == SelfCollision::on;
+      return reference::deformable_refusal(spec.bullet, own);
+    }
     case EngineKind::bullet_softbody:
       if (spec.self_collision.value_or(false))
         return reference::Refusal{kSoftbodyNoSelfCollision, {}, {"self_collision"}};
