@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -22,6 +23,16 @@ constexpr double kFlatCubic = 1e-12;
 /// Below this fraction of the collision distance the closest-point direction is noise, and a
 /// collision's normal comes from the elements' plane instead.
 constexpr double kNormalFromPlane = 1e-3;
+/// The candidates hold while each vertex stays within its radius of where it was at the build:
+/// kRadiusFloor times the thickness plus kSlackSteps times its move over the path they were
+/// built for, so for several steps of a steady motion.
+constexpr double kSlackSteps = 8.0;
+constexpr double kRadiusFloor = 0.5;
+/// A candidate is left out when its distance exceeds this times the most its elements can
+/// approach inside their vertices' balls plus the gap; the 1 % covers round-off many times.
+constexpr double kPruneMargin = 1.01;
+/// activate() sorts the candidates near enough when they are at most 1 / kFewActive of all.
+constexpr std::size_t kFewActive = 8;
 
 struct Box {
   Vector3 lo, hi;
@@ -67,6 +78,25 @@ void for_each_cell(const CellRange& c, F&& f) {
 
 bool overlap(const Box& a, const Box& b) {
   return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
+}
+
+/// True when the box of the pair's first element (its vertex or first edge) swept from a to
+/// b (3 by #P, m) and inflated by pad (m) overlaps the box of its second element: the same
+/// test, to the bit, as the broad phase's on unpadded swept boxes.
+bool near_pair(PairKind kind, const std::array<int, 4>& q, const Matrix3X& a, const Matrix3X& b,
+               double pad) {
+  const int split = kind == PairKind::kVertexTriangle ? 1 : 2;
+  Box one{a.col(q[0]).cwiseMin(b.col(q[0])), a.col(q[0]).cwiseMax(b.col(q[0]))};
+  Box two{a.col(q[split]).cwiseMin(b.col(q[split])), a.col(q[split]).cwiseMax(b.col(q[split]))};
+  for (int i = 1; i < 4; ++i) {
+    Box& into = i < split ? one : two;
+    if (i == split) continue;
+    into.lo = into.lo.cwiseMin(a.col(q[i]).cwiseMin(b.col(q[i])));
+    into.hi = into.hi.cwiseMax(a.col(q[i]).cwiseMax(b.col(q[i])));
+  }
+  one.lo.array() -= pad;
+  one.hi.array() += pad;
+  return overlap(one, two);
 }
 
 /// Boxes hashed into uniform cells, rebuilt per query set; buffers kept between builds.
@@ -336,14 +366,44 @@ int find_root(std::vector<int>& parent, int v) {
 
 }  // namespace
 
-/// Buffers of the broad phase, kept between calls.
+/// Buffers of the broad phase and its candidates, kept between calls.
 struct SelfContact::Scratch {
-  std::vector<Box> tri_box, edge_box;  // swept boxes (m)
+  std::vector<Box> vert_box;           // #P boxes around the anchors' balls (m)
+  Matrix3X anchor;                     // 3 by #P positions the candidates were built at (m)
+  std::vector<double> radius;          // #P the candidates hold while every vertex stays
+                                       // this close to its anchor (m)
+  std::vector<double> disp;            // #P distance of the current path from the anchor (m)
+  std::vector<Box> tri_box, edge_box;  // element boxes, unions of their vertices' (m)
   std::vector<double> sizes;           // triangle box extents, for the cell size
   BoxHash tri_hash, edge_hash;
   std::vector<int> tri_stamp, edge_stamp;
-  std::vector<ProximityPair> pairs;  // candidates of the last collect_pairs
+  std::vector<ProximityPair> pairs;  // candidates of the last collect_pairs, sorted
+  std::vector<char> far;             // per candidate: more than two rings apart
+  std::vector<int> by_distance;      // candidates by their distance at the anchors
+  std::vector<int> active;           // candidates that may come close on the current paths
+  double max_disp = 0;               // m, the largest disp
+  bool cached = false;               // pairs hold for every path inside the balls
   Matrix3X end;                      // 3 by #P end positions of the current vbar' (m)
+
+  /// The candidates into active, in order: those not apart by their distance alone with every
+  /// vertex within max_disp of its anchor when they are few (sorting them is then cheap),
+  /// else all of them.
+  void activate(double gap) {
+    const double reach = kPruneMargin * (2 * max_disp + gap);
+    const auto last = std::partition_point(by_distance.begin(), by_distance.end(),
+                                           [&](int i) { return !(pairs[i].distance > reach); });
+    if (static_cast<std::size_t>(last - by_distance.begin()) * kFewActive > pairs.size()) {
+      active.resize(pairs.size());
+      std::iota(active.begin(), active.end(), 0);
+      return;
+    }
+    active.assign(by_distance.begin(), last);
+    std::sort(active.begin(), active.end());
+  }
+  /// True when candidate q (distance at the anchors) stays farther apart than gap (m) while
+  /// each vertex is within move (#P, m) of its anchor: each point of an element is then within
+  /// its vertices' largest move of where it was at the anchors.
+  bool apart(const ProximityPair& q, const std::vector<double>& move, double gap) const;
 };
 
 /// One resolve call's inputs and running results.
@@ -456,29 +516,26 @@ bool SelfContact::excluded(PairKind kind, const std::array<int, 4>& q, bool ring
   return false;
 }
 
-void SelfContact::collect_pairs(const Matrix3X& a, const Matrix3X& b, double pad, bool rings,
-                                Scratch& s) const {
-  const auto swept = [&](int v) {
-    return Box{a.col(v).cwiseMin(b.col(v)), a.col(v).cwiseMax(b.col(v))};
-  };
+void SelfContact::collect_pairs(double pad, bool rings, Scratch& s) const {
   const auto merge = [](Box& into, const Box& other) {
     into.lo = into.lo.cwiseMin(other.lo);
     into.hi = into.hi.cwiseMax(other.hi);
   };
-  // swept boxes of the triangles and edges
+  // the triangles' and edges' boxes from their vertices'
+  const std::vector<Box>& vb = s.vert_box;
   s.tri_box.resize(m_triangles.size());
   s.sizes.resize(m_triangles.size());
   for (std::size_t t = 0; t < m_triangles.size(); ++t) {
-    Box box = swept(m_triangles[t][0]);
-    merge(box, swept(m_triangles[t][1]));
-    merge(box, swept(m_triangles[t][2]));
+    Box box = vb[m_triangles[t][0]];
+    merge(box, vb[m_triangles[t][1]]);
+    merge(box, vb[m_triangles[t][2]]);
     s.tri_box[t] = box;
     s.sizes[t] = (box.hi - box.lo).maxCoeff();
   }
   s.edge_box.resize(m_edges.size());
   for (std::size_t e = 0; e < m_edges.size(); ++e) {
-    Box box = swept(m_edges[e][0]);
-    merge(box, swept(m_edges[e][1]));
+    Box box = vb[m_edges[e][0]];
+    merge(box, vb[m_edges[e][1]]);
     s.edge_box[e] = box;
   }
   // cells: the median triangle box, at least twice the padding
@@ -499,24 +556,96 @@ void SelfContact::collect_pairs(const Matrix3X& a, const Matrix3X& b, double pad
     box.hi.array() += pad;
     return box;
   };
+  // each element's pairs sorted by vertices, so that the order does not depend on the cells
+  const auto sort_from = [&](std::size_t first) {
+    std::sort(
+        s.pairs.begin() + static_cast<std::ptrdiff_t>(first), s.pairs.end(),
+        [](const ProximityPair& l, const ProximityPair& r) { return l.vertices < r.vertices; });
+  };
   // vertices against triangles, then edges against edges of higher index
   for (int v = 0; v < m_count; ++v) {
-    const Box vb = inflate(swept(v));
-    s.tri_hash.visit(vb, s.tri_stamp, v, [&](int t) {
+    const Box box = inflate(vb[v]);
+    const std::size_t first = s.pairs.size();
+    s.tri_hash.visit(box, s.tri_stamp, v, [&](int t) {
       const Triangle& tri = m_triangles[t];
       const std::array<int, 4> q = {v, tri[0], tri[1], tri[2]};
-      if (overlap(vb, s.tri_box[t]) && !excluded(PairKind::kVertexTriangle, q, rings))
+      if (overlap(box, s.tri_box[t]) && !excluded(PairKind::kVertexTriangle, q, rings))
         s.pairs.push_back({PairKind::kVertexTriangle, q, 0.0});
     });
+    sort_from(first);
   }
   for (int e = 0; e < static_cast<int>(m_edges.size()); ++e) {
-    const Box eb = inflate(s.edge_box[e]);
-    s.edge_hash.visit(eb, s.edge_stamp, e, [&](int f) {
+    const Box box = inflate(s.edge_box[e]);
+    const std::size_t first = s.pairs.size();
+    s.edge_hash.visit(box, s.edge_stamp, e, [&](int f) {
       const std::array<int, 4> q = {m_edges[e][0], m_edges[e][1], m_edges[f][0], m_edges[f][1]};
-      if (f > e && overlap(eb, s.edge_box[f]) && !excluded(PairKind::kEdgeEdge, q, rings))
+      if (f > e && overlap(box, s.edge_box[f]) && !excluded(PairKind::kEdgeEdge, q, rings))
         s.pairs.push_back({PairKind::kEdgeEdge, q, 0.0});
     });
+    sort_from(first);
   }
+}
+
+std::int64_t SelfContact::update_candidates(const Matrix3X& a, const Matrix3X& b,
+                                            Scratch& s) const {
+  // still good when every vertex's path from a to b stays within the radius of its anchor
+  bool inside = s.cached;
+  s.disp.resize(static_cast<std::size_t>(m_count));
+  s.max_disp = 0;
+  for (int v = 0; v < m_count && inside; ++v) {
+    s.disp[v] = std::max((a.col(v) - s.anchor.col(v)).norm(), (b.col(v) - s.anchor.col(v)).norm());
+    inside = s.disp[v] <= s.radius[v];
+    s.max_disp = std::max(s.max_disp, s.disp[v]);
+  }
+  if (inside) return 0;
+  s.max_disp = 0;
+  // anchors at a; radii from each vertex's move a -> b
+  s.anchor = a;
+  s.radius.resize(static_cast<std::size_t>(m_count));
+  s.vert_box.resize(static_cast<std::size_t>(m_count));
+  for (int v = 0; v < m_count; ++v) {
+    s.disp[v] = (b.col(v) - a.col(v)).norm();
+    s.max_disp = std::max(s.max_disp, s.disp[v]);
+    s.radius[v] = kRadiusFloor * m_params.thickness + kSlackSteps * s.disp[v];
+    if (!std::isfinite(s.radius[v])) s.radius[v] = kRadiusFloor * m_params.thickness;
+    s.vert_box[v] = Box{a.col(v).array() - s.radius[v], a.col(v).array() + s.radius[v]};
+  }
+  collect_pairs(m_params.thickness, !m_params.near_collisions, s);
+  s.cached = true;
+  // keep the pairs closer at the anchors than the thickness plus their elements' largest
+  // radii (the most two points of them can approach while every vertex stays within its
+  // radius), with their distance there
+  std::size_t kept = 0;
+  Vector3 x[4];
+  for (std::size_t i = 0; i < s.pairs.size(); ++i) {
+    ProximityPair q = s.pairs[i];
+    for (int k = 0; k < 4; ++k) x[k] = a.col(q.vertices[k]);
+    q.distance = closest(q.kind, x).dist;
+    if (s.apart(q, s.radius, m_params.thickness)) continue;
+    s.pairs[kept++] = q;
+  }
+  const auto tests = static_cast<std::int64_t>(s.pairs.size());
+  s.pairs.resize(kept);
+  // which of them the proximity stage sees
+  s.far.resize(kept);
+  for (std::size_t i = 0; i < kept; ++i)
+    s.far[i] = !m_params.near_collisions || !excluded(s.pairs[i].kind, s.pairs[i].vertices, true);
+  // and by their distance, for activate(); NaN distances (never apart) first
+  s.by_distance.resize(kept);
+  for (std::size_t i = 0; i < kept; ++i) s.by_distance[i] = static_cast<int>(i);
+  std::sort(s.by_distance.begin(), s.by_distance.end(), [&](int l, int r) {
+    const double dl = s.pairs[l].distance, dr = s.pairs[r].distance;
+    return (std::isnan(dl) && !std::isnan(dr)) || dl < dr;
+  });
+  return tests;
+}
+
+bool SelfContact::Scratch::apart(const ProximityPair& q, const std::vector<double>& move,
+                                 double gap) const {
+  const int split = q.kind == PairKind::kVertexTriangle ? 1 : 2;
+  double reach[2] = {0, 0};
+  for (int k = 0; k < 4; ++k) reach[k >= split] = std::max(reach[k >= split], move[q.vertices[k]]);
+  return q.distance > kPruneMargin * (reach[0] + reach[1] + gap);
 }
 
 std::vector<ProximityPair> SelfContact::proximities(const Matrix3X& x) const {
@@ -524,7 +653,9 @@ std::vector<ProximityPair> SelfContact::proximities(const Matrix3X& x) const {
     throw std::invalid_argument("self-contact: " + std::to_string(x.cols()) + " positions for " +
                                 std::to_string(m_count) + " particles");
   Scratch s;
-  collect_pairs(x, x, m_params.thickness, true, s);
+  s.vert_box.resize(static_cast<std::size_t>(m_count));
+  for (int v = 0; v < m_count; ++v) s.vert_box[v] = Box{x.col(v), x.col(v)};
+  collect_pairs(m_params.thickness, true, s);
   std::vector<ProximityPair> out;
   Vector3 p[4];
   for (ProximityPair q : s.pairs) {
@@ -548,9 +679,15 @@ std::optional<ProximityPair> SelfContact::closest_violation(const Matrix3X& x) c
 
 void SelfContact::proximity_pass(Pass& p) {
   const double thick = m_params.thickness;
-  collect_pairs(p.x0, p.x0, thick, true, p.s);
+  p.s.end = p.x0 + p.h * p.vbar;
+  p.stats.tests += update_candidates(p.x0, p.s.end, p.s);
+  p.s.activate(thick);
   Vector3 x[4];
-  for (const ProximityPair& q : p.s.pairs) {
+  for (int k : p.s.active) {
+    const ProximityPair& q = p.s.pairs[k];
+    if (!p.s.far[k] || p.s.apart(q, p.s.disp, thick) ||
+        !near_pair(q.kind, q.vertices, p.x0, p.x0, thick))
+      continue;
     for (int i = 0; i < 4; ++i) x[i] = p.x0.col(q.vertices[i]);
     ++p.stats.tests;
     const Closest c = closest(q.kind, x);
@@ -583,10 +720,14 @@ int SelfContact::collision_round(Pass& p, bool impulses, bool skip_rigid) {
   const double eta = m_params.min_gap * m_params.thickness;
   const double aim = m_params.aim_gap * m_params.thickness;
   p.s.end = p.x0 + p.h * p.vbar;
-  collect_pairs(p.x0, p.s.end, eta, !m_params.near_collisions, p.s);
+  p.stats.tests += update_candidates(p.x0, p.s.end, p.s);
+  p.s.activate(eta);
   int found = 0;
   Vector3 x[4], u[4], xt[4];
-  for (const ProximityPair& q : p.s.pairs) {
+  for (int k : p.s.active) {
+    const ProximityPair& q = p.s.pairs[k];
+    // the candidates whose paths at the round's start come within eta
+    if (p.s.apart(q, p.s.disp, eta) || !near_pair(q.kind, q.vertices, p.x0, p.s.end, eta)) continue;
     // pairs inside one rigidly moving zone cannot come closer
     if (skip_rigid) {
       const int root = find_root(m_parent, q.vertices[0]);

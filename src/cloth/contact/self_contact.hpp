@@ -41,12 +41,24 @@
 /// vertex is infinitely heavy; normal impulses along the closest-point direction conserve
 /// angular momentum too.
 ///
-/// Broad phase: a uniform spatial hash rebuilt on every query over the elements' boxes swept
-/// from start to end positions and inflated by the padding (cells the median triangle box
-/// size, at least twice the padding); cost linear in the elements. A box over more than 64
-/// cells is checked against every other element instead. Deterministic: the same input gives
-/// the same pairs in the same order. resolve() keeps its buffers as members, so it allocates
-/// only when a call needs more room than every earlier one (proximities() allocates).
+/// Broad phase: one candidate list serves every stage and every round, and is kept from call to
+/// call. Each vertex gets an anchor (its position at the build) and a radius (half the
+/// thickness plus 8 times its move over the path the list is built for); a uniform spatial hash
+/// over boxes holding those balls (elements' boxes the unions of their vertices'; cells the
+/// median triangle box, at least twice the thickness; a box over more than 64 cells is
+/// checked against every element instead) gives the pairs that can come within the thickness,
+/// and those farther apart at the anchors than the thickness plus both elements' largest
+/// radius are dropped (inside the balls they never come that close). The list is rebuilt only
+/// when a stage's path x_start -> end leaves a vertex's ball, so a slow or resting cloth
+/// rebuilds it once in many steps. A stage skips the candidates that its vertices' distances
+/// from their anchors prove apart, then keeps exactly the pairs a broad phase of its own would
+/// keep (boxes of the stage's paths, the first element's inflated by the thickness or by
+/// min_gap times it, overlapping), in the list's order: vertex-triangle pairs by vertex, then
+/// edge-edge pairs by edge, each element's pairs by their vertices. So the result depends on
+/// the positions alone, not on the cells or on what was cached. tests in the stats counts the
+/// distance tests of the builds and the stages' narrow-phase tests. resolve() keeps its
+/// buffers as members, so it allocates only when a call needs more room than every earlier
+/// one (proximities() allocates).
 
 #include <array>
 #include <cstdint>
@@ -124,10 +136,15 @@ class SelfContact {
  private:
   struct Scratch;
   struct Pass;
-  /// Candidate pairs into s.pairs: elements whose boxes swept from a to b (3 by #P, m) come
-  /// within pad (m), minus the two-ring pairs (rings) or only the pairs sharing a vertex.
-  void collect_pairs(const Matrix3X& a, const Matrix3X& b, double pad, bool rings,
-                     Scratch& s) const;
+  /// Candidate pairs into s.pairs: elements whose boxes, the unions of their vertices' boxes
+  /// s.vert_box, come within pad (m), minus the two-ring pairs (rings) or only the pairs
+  /// sharing a vertex; by first element, each element's by vertices.
+  void collect_pairs(double pad, bool rings, Scratch& s) const;
+  /// Rebuilds the candidates unless every vertex's path from a to b (3 by #P, m) lies in its
+  /// ball of the last build (anchor and radius), keeping only pairs that can come within the
+  /// thickness inside their balls; sets each vertex's distance from its anchor on the path.
+  /// Returns the distance tests of a rebuild (0 without one).
+  std::int64_t update_candidates(const Matrix3X& a, const Matrix3X& b, Scratch& s) const;
   /// Stage 1: proximity impulses, repulsion and friction at x_start.
   void proximity_pass(Pass& p);
   /// One continuous check of every candidate: impulses on the colliding pairs, or (impulses
