@@ -728,6 +728,11 @@ int SelfContact::collision_round(Pass& p, bool impulses, bool skip_rigid) {
     const ProximityPair& q = p.s.pairs[k];
     // the candidates whose paths at the round's start come within eta
     if (p.s.apart(q, p.s.disp, eta) || !near_pair(q.kind, q.vertices, p.x0, p.s.end, eta)) continue;
+    // a pair of infinitely heavy vertices only (held, handled or on a collider) is moved by
+    // what holds them, which no impulse or zone can change
+    if (p.inv_mass[q.vertices[0]] == 0 && p.inv_mass[q.vertices[1]] == 0 &&
+        p.inv_mass[q.vertices[2]] == 0 && p.inv_mass[q.vertices[3]] == 0)
+      continue;
     // pairs inside one rigidly moving zone cannot come closer
     if (skip_rigid) {
       const int root = find_root(m_parent, q.vertices[0]);

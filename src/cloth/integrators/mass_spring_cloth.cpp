@@ -227,11 +227,16 @@ void MassSpringCloth::resolve_contacts(double h) {
 }
 
 void MassSpringCloth::resolve_self_contact(double h) {
-  // held (any axis), handled and collider-touched particles are infinitely heavy: a layer
-  // cannot push them, so a collider cannot push a particle through the layer above
+  // held (any axis), handled and resting particles (on a collider at this step's end and at
+  // the last one's) are infinitely heavy: a layer cannot push them into the collider. A
+  // particle that reached a collider in this step is not: the collider pass may have put it
+  // back level with a layer it fell through, which the pass must then move it out of
+  m_resting.resize(m_touched.size(), 0);
   for (Eigen::Index p = 0; p < m_x.cols(); ++p) {
-    const bool heavy = m_model.free.col(p).minCoeff() == 0.0 || m_touched[static_cast<size_t>(p)];
+    const auto k = static_cast<size_t>(p);
+    const bool heavy = m_model.free.col(p).minCoeff() == 0.0 || (m_touched[k] && m_resting[k]);
     m_self_inv_mass[p] = heavy ? 0.0 : m_model.inv_mass[p];
+    m_resting[k] = m_touched[k];
   }
   // the line-search solve's pushing contacts too
   if (m_newton) {

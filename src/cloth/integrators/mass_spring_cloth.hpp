@@ -67,8 +67,8 @@ class MassSpringCloth final : public Simulator {
   /// Resolves collider contacts and then self-contact after a step and books their work in
   /// m_contact_work.
   void resolve_contacts(double h);
-  /// The self-contact pass over the step from m_x_start, with held, handled and
-  /// collider-touched particles infinitely heavy (m_touched: the collider pass's contacts).
+  /// The self-contact pass over the step from m_x_start, with held, handled and resting
+  /// particles (touched by the collider pass at this step's end and the last) infinitely heavy.
   void resolve_self_contact(double h);
   /// Gives the handle particles their path's velocity over the next step of h seconds.
   void start_handles(double h);
@@ -102,6 +102,7 @@ class MassSpringCloth final : public Simulator {
   std::unique_ptr<SelfContact> m_self;  // self-collision; null without
   SelfContactStats m_self_stats;        // the last step's self-contact pass
   VectorX m_self_inv_mass;              // #P inverse masses in the self-contact pass
+  std::vector<char> m_resting;          // #P: on a collider at the last step's end
   VectorX m_lambda;                     // xpbd: the springs' multipliers
 };
 
