@@ -210,3 +210,21 @@ TEST_CASE("bullet-deformable's margin check reads the engine's own self_collisio
   // equal margins: accepted with it on
   CHECK_NOTHROW(parse_scenario(three_engines(floor), "x.toml", {"cloth.thickness=0.02"}));
 }
+
+TEST_CASE("a thickness the rest shape already violates is refused, naming both elements",
+          "[scenario][self-contact]") {
+  // 4 x 4 particles 0.1 m apart, triangles split along (i, j) - (i + 1, j + 1): particle (3, 1)
+  // is three rings from the triangle (1, 2), (2, 3), (1, 3) and 0.3 / sqrt(2) = 0.212 m from
+  // its edge (1, 2) - (2, 3)
+  const std::string text = three_engines("self_collision = true\nthickness = 0.25\n");
+  const std::string message = error_of([&] { parse_scenario(text, "x.toml"); });
+  CHECK(message ==
+        "x.toml:8: cloth.thickness: self-contact keeps layers 0.25 m apart, but at rest particle "
+        "(3, 1) and the triangle (1, 2), (2, 3), (1, 3) are already 0.212 m apart (more than two "
+        "rings apart): give a thickness below that, or a mesh whose edges are longer than about "
+        "twice the thickness");
+  // the same thickness with self-contact off in every engine is no contact at all
+  CHECK_NOTHROW(parse_scenario(three_engines("thickness = 0.25\n"), "x.toml"));
+  CHECK_NOTHROW(
+      parse_scenario(three_engines("self_collision = true\nthickness = 0.2\n"), "x.toml"));
+}

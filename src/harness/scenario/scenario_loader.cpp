@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -12,6 +13,8 @@
 #include <map>
 #include <sstream>
 
+#include "cloth/contact/self_contact.hpp"
+#include "cloth/model/model.hpp"
 #include "harness/scenario/cloth_reader.hpp"
 #include "harness/scenario/embedded_seed_scenario.hpp"
 #include "harness/scenario/engine_refusal.hpp"
@@ -495,6 +498,46 @@ void keep_engines(const Reader& r, const toml::table& root,
   s.engines = std::move(kept);
 }
 
+/// A particle as the scenario names it: a grid's (i, j), a mesh's 0-based vertex index.
+std::string particle_name(const cloth::Scene& scene, int p) {
+  if (scene.mesh) return std::to_string(p);
+  return "(" + std::to_string(p % scene.cloth.nu) + ", " + std::to_string(p / scene.cloth.nu) + ")";
+}
+
+/// The two elements of a pair as the scenario names them.
+std::string pair_name(const cloth::Scene& scene, const cloth::ProximityPair& pair) {
+  const auto n = [&](int k) { return particle_name(scene, pair.vertices[size_t(k)]); };
+  const std::string kind = scene.mesh ? "vertex " : "particle ";
+  if (pair.kind == cloth::PairKind::kVertexTriangle)
+    return kind + n(0) + " and the triangle " + n(1) + ", " + n(2) + ", " + n(3);
+  return "the edge " + n(0) + " - " + n(1) + " and the edge " + n(2) + " - " + n(3);
+}
+
+/// Refuses a thickness the rest shape already violates, when an engine keeps layers apart:
+/// elements more than two rings apart closer than the thickness at rest.
+void refuse_thin_rest_shape(const Reader& r, const toml::table& root, const Scenario& s) {
+  const bool any = std::any_of(s.engines.begin(), s.engines.end(), [&](const EngineSpec& e) {
+    return self_collision_of(e, s.scene.cloth) == SelfCollision::on;
+  });
+  if (!any) return;
+  const cloth::Matrix3X x0 = cloth::rest_positions(s.scene);
+  const auto& tris = s.scene.mesh ? s.scene.mesh->triangles
+                                  : cloth::grid_triangles(s.scene.cloth.nu, s.scene.cloth.nv);
+  cloth::SelfContactParams p;
+  p.thickness = s.scene.cloth.thickness;
+  const auto pair = cloth::SelfContact(static_cast<int>(x0.cols()), tris, p).closest_violation(x0);
+  if (!pair) return;
+  char apart[32];
+  std::snprintf(apart, sizeof apart, "%.3g", pair->distance);
+  const toml::node* n = scene_node(root, "cloth.thickness");
+  if (!n) n = scene_node(root, "cloth");
+  r.fail(n ? n : &root, "cloth.thickness",
+         "self-contact keeps layers " + toml_double(p.thickness) + " m apart, but at rest " +
+             pair_name(s.scene, *pair) + " are already " + apart +
+             " m apart (more than two rings apart): give a thickness below that, or a mesh "
+             "whose edges are longer than about twice the thickness");
+}
+
 /// A warning for each engine that runs without the self-collision the cloth asks for.
 void note_self_collision_unavailable(Scenario& s) {
   for (const EngineSpec& e : s.engines)
@@ -516,6 +559,7 @@ Scenario read_scenario(const toml::table& root, const std::string& source,
   read_engines(r, root, engines, s);
   read_reference(r, root, s);
   keep_engines(r, root, engines, only, s);
+  refuse_thin_rest_shape(r, root, s);
   note_self_collision_unavailable(s);
   return s;
 }
