@@ -164,9 +164,10 @@ struct SelfIntersectionMeter::Grid {
 struct SelfIntersectionMeter::Search {
   const Matrix3X& x;
   Grid grid;
-  std::vector<int> stamp;  // #T: the last query that visited each triangle
-  std::vector<int> near;   // #P: the last query whose 2-rings hold each vertex
-  double best = 0;         // smallest distance so far (m)
+  std::vector<int> stamp;        // #T: the last query that visited each triangle
+  std::vector<int> near;         // #P: the last query whose 2-rings hold each vertex
+  std::vector<int> near_end[2];  // #P each: the last edge whose end k's 2-ring holds the vertex
+  double best = 0;               // smallest distance so far (m)
   int crossings = 0;
   long long work = 0;
   long long budget = 0;
@@ -247,6 +248,15 @@ SelfIntersectionMeter::SelfIntersectionMeter(int vertex_count, std::vector<Trian
   for (std::size_t t = 0; t < m_triangles.size(); ++t)
     for (int k = 0; k < 3; ++k)
       if (m_edge_tris[m_tri_edges[t][k]][0] == static_cast<int>(t)) m_owned[t] |= char(1 << k);
+  // the edge that measures each vertex's distances: its first edge
+  m_hosts.assign(m_edges.size(), 0);
+  std::vector<char> hosted(static_cast<std::size_t>(vertex_count), 0);
+  for (std::size_t e = 0; e < m_edges.size(); ++e)
+    for (int k = 0; k < 2; ++k)
+      if (!hosted[m_edges[e][k]]) {
+        hosted[m_edges[e][k]] = 1;
+        m_hosts[e] |= char(1 << k);
+      }
   build_rings();
   const auto elements = static_cast<long long>(vertex_count) +
                         static_cast<long long>(m_edges.size() + m_triangles.size());
@@ -310,10 +320,58 @@ bool SelfIntersectionMeter::within_two_rings(int v, int w) const {
   return false;
 }
 
-bool SelfIntersectionMeter::mark_ring(Search& s, int query, int v) const {
+bool SelfIntersectionMeter::mark_ring(std::vector<int>& marks, int query, int v) const {
   if (!m_has_ring[v]) return false;
-  for (int n = m_ring_start[v]; n < m_ring_start[v + 1]; ++n) s.near[m_ring[n]] = query;
+  for (int n = m_ring_start[v]; n < m_ring_start[v + 1]; ++n) marks[m_ring[n]] = query;
   return true;
+}
+
+void SelfIntersectionMeter::edge_triangle(Search& s, int e, int t, bool marked,
+                                          bool want_cross) const {
+  const int p = m_edges[e][0], q = m_edges[e][1];
+  const Vector3 xp = s.p(p), xq = s.p(q);
+  const Box eb = box_of(xp, xq);
+  const Triangle& tri = m_triangles[t];
+  const Box& tb = s.grid.tri_box[t];
+  const auto near = [&](int u) {
+    return marked ? s.near[u] == e : within_two_rings(p, u) || within_two_rings(q, u);
+  };
+  // the crossing, for a triangle sharing no vertex with the edge
+  const bool shares =
+      tri[0] == p || tri[1] == p || tri[2] == p || tri[0] == q || tri[1] == q || tri[2] == q;
+  if (want_cross && !shares && overlap(eb, tb) &&
+      edge_crosses_triangle(xp, xq, s.p(tri[0]), s.p(tri[1]), s.p(tri[2]))) {
+    ++s.crossings;
+    if (s.crossing_triangles) {
+      s.crossing_triangles->push_back(t);
+      for (int owner : m_edge_tris[e])
+        if (owner >= 0) s.crossing_triangles->push_back(owner);
+    }
+  }
+  // edge-edge distances to the triangle's edges of higher index, each pair once (through
+  // the first triangle of the other edge)
+  if (!(s.best > 0) || !closer_than(eb, tb, s.best)) return;
+  if (near(tri[0]) && near(tri[1]) && near(tri[2])) return;
+  for (int k = 0; k < 3; ++k) {
+    // (endpoints in the edge's order, lower index first)
+    const int u = std::min(tri[k], tri[(k + 1) % 3]), w = std::max(tri[k], tri[(k + 1) % 3]);
+    if (!(m_owned[t] >> k & 1) || m_tri_edges[t][k] <= e || near(u) || near(w)) continue;
+    const Vector3 xu = s.p(u), xw = s.p(w);
+    if (!closer_than(eb, box_of(xu, xw), s.best)) continue;
+    const double d = segment_segment_distance(xp, xq, xu, xw);
+    if (d < s.best) s.best = d;
+  }
+}
+
+void SelfIntersectionMeter::vertex_triangle(Search& s, int v, const std::vector<int>& marks,
+                                            int query, bool marked, int t) const {
+  const Triangle& tri = m_triangles[t];
+  const auto near = [&](int u) { return marked ? marks[u] == query : within_two_rings(v, u); };
+  if (!(s.best > 0) || near(tri[0]) || near(tri[1]) || near(tri[2])) return;
+  const Vector3 xv = s.p(v);
+  if (!closer_than(Box{xv, xv}, s.grid.tri_box[t], s.best)) return;
+  const double d = point_triangle_distance(xv, s.p(tri[0]), s.p(tri[1]), s.p(tri[2]));
+  if (d < s.best) s.best = d;
 }
 
 void SelfIntersectionMeter::edge_pass(Search& s) const {
@@ -325,58 +383,34 @@ void SelfIntersectionMeter::edge_pass(Search& s) const {
     const bool want_cross = xp != xq;
     if (!want_cross && !(s.best > 0)) continue;
     // the vertices within two rings of p or q, marked for O(1) look-ups where the rings are kept
-    const bool marked = mark_ring(s, e, p) & mark_ring(s, e, q);
-    const auto near = [&](int u) {
-      return marked ? s.near[u] == e : within_two_rings(p, u) || within_two_rings(q, u);
-    };
+    const bool marked = mark_ring(s.near, e, p) & mark_ring(s.near, e, q);
+    // the ends whose vertex-triangle distances this edge measures (it is their first edge):
+    // every triangle within best of an end is within best of the edge, so its query finds them
+    const int hosts = m_hosts[e];
+    bool end_marked[2] = {false, false};
+    for (int k = 0; k < 2; ++k)
+      if (hosts >> k & 1) end_marked[k] = mark_ring(s.near_end[k], e, m_edges[e][k]);
     s.visit(eb, s.best, e, [&](int t) {
-      const Triangle& tri = m_triangles[t];
+      // a triangle whose box neither overlaps the edge's nor comes within best of it can
+      // neither be crossed nor come closer to the edge or its ends
       const Box& tb = s.grid.tri_box[t];
-      // the crossing, for a triangle sharing no vertex with the edge
-      const bool shares =
-          tri[0] == p || tri[1] == p || tri[2] == p || tri[0] == q || tri[1] == q || tri[2] == q;
-      if (want_cross && !shares && overlap(eb, tb) &&
-          edge_crosses_triangle(xp, xq, s.p(tri[0]), s.p(tri[1]), s.p(tri[2]))) {
-        ++s.crossings;
-        if (s.crossing_triangles) {
-          s.crossing_triangles->push_back(t);
-          for (int owner : m_edge_tris[e])
-            if (owner >= 0) s.crossing_triangles->push_back(owner);
-        }
-      }
-      // edge-edge distances to the triangle's edges of higher index, each pair once (through
-      // the first triangle of the other edge)
-      if (!(s.best > 0) || (near(tri[0]) && near(tri[1]) && near(tri[2]))) return;
-      if (!closer_than(eb, tb, s.best)) return;
-      for (int k = 0; k < 3; ++k) {
-        // (endpoints in the edge's order, lower index first)
-        const int u = std::min(tri[k], tri[(k + 1) % 3]), w = std::max(tri[k], tri[(k + 1) % 3]);
-        if (!(m_owned[t] >> k & 1) || near(u) || near(w) || m_tri_edges[t][k] <= e) continue;
-        const Vector3 xu = s.p(u), xw = s.p(w);
-        if (!closer_than(eb, box_of(xu, xw), s.best)) continue;
-        const double d = segment_segment_distance(xp, xq, xu, xw);
-        if (d < s.best) s.best = d;
-      }
+      if (!overlap(eb, tb) && !(s.best > 0 && closer_than(eb, tb, s.best))) return;
+      edge_triangle(s, e, t, marked, want_cross);
+      for (int k = 0; k < 2; ++k)
+        if (hosts >> k & 1) vertex_triangle(s, m_edges[e][k], s.near_end[k], e, end_marked[k], t);
     });
   }
 }
 
 void SelfIntersectionMeter::vertex_pass(Search& s) const {
+  // only vertices on no edge: the edge pass measured every other one
   const int offset = static_cast<int>(m_edges.size());
   for (int v = 0; v < m_vertex_count && !s.exhausted && s.best > 0; ++v) {
+    if (m_adj_start[v + 1] > m_adj_start[v]) continue;
     const Vector3 xv = s.p(v);
-    const Box vb{xv, xv};
-    const bool marked = mark_ring(s, offset + v, v);
-    const auto near = [&](int u) {
-      return marked ? s.near[u] == offset + v : within_two_rings(v, u);
-    };
-    s.visit(vb, s.best, offset + v, [&](int t) {
-      const Triangle& tri = m_triangles[t];
-      if (near(tri[0]) || near(tri[1]) || near(tri[2])) return;
-      if (!closer_than(vb, s.grid.tri_box[t], s.best)) return;
-      const double d = point_triangle_distance(xv, s.p(tri[0]), s.p(tri[1]), s.p(tri[2]));
-      if (d < s.best) s.best = d;
-    });
+    const bool marked = mark_ring(s.near, offset + v, v);
+    s.visit(Box{xv, xv}, s.best, offset + v,
+            [&](int t) { vertex_triangle(s, v, s.near, offset + v, marked, t); });
   }
 }
 
@@ -397,6 +431,8 @@ SelfIntersection SelfIntersectionMeter::measure(const Matrix3X& x,
            Grid{},
            std::vector<int>(m_triangles.size(), -1),
            std::vector<int>(static_cast<std::size_t>(m_vertex_count), -1),
+           {std::vector<int>(static_cast<std::size_t>(m_vertex_count), -1),
+            std::vector<int>(static_cast<std::size_t>(m_vertex_count), -1)},
            m_cutoff,
            0,
            0,

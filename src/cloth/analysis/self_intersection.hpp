@@ -78,7 +78,10 @@ class SelfIntersectionMeter {
   struct Grid;
   struct Search;
   void build_rings();
-  bool mark_ring(Search& s, int query, int v) const;
+  bool mark_ring(std::vector<int>& marks, int query, int v) const;
+  void edge_triangle(Search& s, int e, int t, bool marked, bool want_cross) const;
+  void vertex_triangle(Search& s, int v, const std::vector<int>& marks, int query, bool marked,
+                       int t) const;
   void edge_pass(Search& s) const;
   void vertex_pass(Search& s) const;
 
@@ -88,6 +91,7 @@ class SelfIntersectionMeter {
   std::vector<std::array<int, 2>> m_edges;      // #E unique edges (lo, hi)
   std::vector<std::array<int, 3>> m_tri_edges;  // #T: edge k joins vertices k and k + 1
   std::vector<char> m_owned;  // #T: bit k set when the triangle is edge k's first triangle
+  std::vector<char> m_hosts;  // #E: bit k set when the edge is its end k's first edge
   std::vector<std::array<int, 2>> m_edge_tris;  // #E: the (one or two) triangles of an edge, -1
   std::vector<int> m_adj_start, m_adj;          // vertex neighbours, CSR, sorted
   std::vector<int> m_ring_start, m_ring;        // vertices within two rings, CSR, sorted;

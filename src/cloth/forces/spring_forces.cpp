@@ -24,12 +24,41 @@ struct ListArrays {
   double c;                             // damping
 };
 
+/// Adds (or with kSubtract subtracts) the block's forces bx, by, bz to the particles idx[i],
+/// which with kRun are the consecutive particles i0 + i, updated as contiguous vectors.
+template <bool kRun, bool kSubtract, class Count>
+void scatter_block(const ListArrays& p, const int* __restrict idx, int i0, Count m,
+                   const double* __restrict bx, const double* __restrict by,
+                   const double* __restrict bz) {
+  double* __restrict fx = p.fx;
+  double* __restrict fy = p.fy;
+  double* __restrict fz = p.fz;
+  const double s = kSubtract ? -1.0 : 1.0;
+  if (kRun) {
+#pragma omp simd
+    for (int i = 0; i < m; ++i) {
+      fx[i0 + i] += s * bx[i];
+      fy[i0 + i] += s * by[i];
+      fz[i0 + i] += s * bz[i];
+    }
+  } else {
+    // (ends may repeat within a block: one at a time)
+    for (int i = 0; i < m; ++i) {
+      fx[idx[i]] += s * bx[i];
+      fy[idx[i]] += s * by[i];
+      fz[idx[i]] += s * bz[i];
+    }
+  }
+}
+
 /// Forces of the springs s0 .. s0 + m - 1: computed together (vectorisable: no stores to
-/// particles), then added to both ends. With kRun their first ends are the consecutive
-/// particles A[s0] + i, loaded and updated as contiguous vectors (the layout renumbered()
-/// gives most blocks); m a compile-time constant keeps the block in registers.
-template <bool kRun, class Count>
-double list_force_block(const ListArrays& p, int s0, Count m) {
+/// particles), then added to both ends. With kRunA (kRunB) their first (second) ends are the
+/// consecutive particles A[s0] + i (B[s0] + i), loaded and updated as contiguous vectors (the
+/// layout renumbered() gives most blocks); m a compile-time constant keeps the block in
+/// registers. Each spring's dissipated power is added to its lane of power (kBlock lanes), so
+/// no block ends in a horizontal sum.
+template <bool kRunA, bool kRunB, class Count>
+void list_force_block(const ListArrays& p, int s0, Count m, double* __restrict power) {
   const double* __restrict X = p.X;
   const double* __restrict Y = p.Y;
   const double* __restrict Z = p.Z;
@@ -41,14 +70,13 @@ double list_force_block(const ListArrays& p, int s0, Count m) {
   const double* __restrict rest = p.rest + s0;
   const double* __restrict k = p.k + s0;
   const double c = p.c;
-  const int a0 = A[0];
+  const int a0 = A[0], b0 = B[0];
   double bx[kBlock], by[kBlock], bz[kBlock];
-  double power = 0.0;
   // the same expression as the grid kernel's, spring by spring, the whole block at once (16
   // lanes ran 1.1x faster than 8 and 1.25x faster than 4 in bench_cloth's BM_spring_paths)
-#pragma omp simd reduction(+ : power) simdlen(kBlock)
+#pragma omp simd simdlen(kBlock)
   for (int i = 0; i < m; ++i) {
-    const int a = kRun ? a0 + i : A[i], b = B[i];
+    const int a = kRunA ? a0 + i : A[i], b = kRunB ? b0 + i : B[i];
     const double dx = X[b] - X[a], dy = Y[b] - Y[a], dz = Z[b] - Z[a];
     const double len = std::sqrt(dx * dx + dy * dy + dz * dz);
     const double il = 1.0 / (len + kTinyLength);
@@ -57,32 +85,18 @@ double list_force_block(const ListArrays& p, int s0, Count m) {
     bx[i] = sc * dx;
     by[i] = sc * dy;
     bz[i] = sc * dz;
-    power += c * vr * vr;
+    power[i] += c * vr * vr;
   }
   // end a gains the force, end b loses it
-  double* __restrict fx = p.fx;
-  double* __restrict fy = p.fy;
-  double* __restrict fz = p.fz;
-  if (kRun) {
-#pragma omp simd
-    for (int i = 0; i < m; ++i) {
-      fx[a0 + i] += bx[i];
-      fy[a0 + i] += by[i];
-      fz[a0 + i] += bz[i];
-    }
-  } else {
-    for (int i = 0; i < m; ++i) {
-      fx[A[i]] += bx[i];
-      fy[A[i]] += by[i];
-      fz[A[i]] += bz[i];
-    }
-  }
-  for (int i = 0; i < m; ++i) {
-    fx[B[i]] -= bx[i];
-    fy[B[i]] -= by[i];
-    fz[B[i]] -= bz[i];
-  }
-  return power;
+  scatter_block<kRunA, false>(p, A, a0, m, bx, by, bz);
+  scatter_block<kRunB, true>(p, B, b0, m, bx, by, bz);
+}
+
+/// True when idx[0 .. kBlock) are consecutive integers.
+inline bool is_run(const int* idx) {
+  bool run = true;
+  for (int i = 1; i < kBlock; ++i) run = run && idx[i] == idx[0] + i;
+  return run;
 }
 
 /// The general list's forces, block by block.
@@ -97,15 +111,23 @@ double add_list_forces(const SpringList& l, double c, const Matrix3X& x, const M
                      l.stiffness.data(), c};
   const int n = l.size(), full = n - n % kBlock;
   const std::integral_constant<int, kBlock> block;
-  double power = 0.0;
+  alignas(64) double power[kBlock] = {};
   for (int s0 = 0; s0 < full; s0 += kBlock) {
-    // a run when the block's first ends are kBlock consecutive particles
-    bool run = true;
-    for (int i = 1; i < kBlock; ++i) run = run && p.A[s0 + i] == p.A[s0] + i;
-    power += run ? list_force_block<true>(p, s0, block) : list_force_block<false>(p, s0, block);
+    // the kernel for the block's kind: runs of first ends, of second ends, of both, of neither
+    const bool run_a = is_run(p.A + s0), run_b = is_run(p.B + s0);
+    if (run_a && run_b)
+      list_force_block<true, true>(p, s0, block, power);
+    else if (run_a)
+      list_force_block<true, false>(p, s0, block, power);
+    else if (run_b)
+      list_force_block<false, true>(p, s0, block, power);
+    else
+      list_force_block<false, false>(p, s0, block, power);
   }
-  if (full < n) power += list_force_block<false>(p, full, n - full);
-  return power;
+  if (full < n) list_force_block<false, false>(p, full, n - full, power);
+  double total = 0.0;
+  for (double lane : power) total += lane;
+  return total;
 }
 
 }  // namespace

@@ -50,6 +50,46 @@ SpringSet to_general(const SpringSet& springs) {
   return out;
 }
 
+namespace {
+
+/// The round of each spring of links (sorted by a, then b): a particle with d springs by a puts
+/// them in rounds 0 .. d - 1, one each. A spring (a, b) takes the round of (a - 1, b - 1) where
+/// that is free, so that runs of consecutive a in a round mostly have consecutive b as well; the
+/// other springs fill the free rounds in order of b.
+std::vector<int> spring_rounds(const std::vector<SpringLink>& links) {
+  std::vector<int> round(links.size(), -1);
+  size_t prev = 0, first = 0;  // the springs of the previous particle: [prev, first)
+  while (first < links.size()) {
+    size_t last = first;
+    while (last < links.size() && links[last].a == links[first].a) ++last;
+    const int degree = int(last - first);
+    std::vector<char> taken(size_t(degree), 0);
+    // the round of the spring one particle back on both ends, where it is free
+    const bool chained = first > 0 && links[prev].a == links[first].a - 1;
+    for (size_t s = first; s < last && chained; ++s)
+      for (size_t t = prev; t < first; ++t) {
+        const int r = round[t];
+        if (round[s] >= 0 || links[t].b != links[s].b - 1 || r >= degree || taken[size_t(r)])
+          continue;
+        round[s] = r;
+        taken[size_t(r)] = 1;
+      }
+    // the rest in the free rounds, in order
+    int r = 0;
+    for (size_t s = first; s < last; ++s) {
+      if (round[s] >= 0) continue;
+      while (taken[size_t(r)]) ++r;
+      round[s] = r;
+      taken[size_t(r)] = 1;
+    }
+    prev = first;
+    first = last;
+  }
+  return round;
+}
+
+}  // namespace
+
 SpringSet renumbered(const SpringSet& springs, const std::vector<int>& new_of_old) {
   // each spring from its lower new end a to its upper one b, by a then b
   std::vector<SpringLink> links = springs.links();
@@ -63,9 +103,7 @@ SpringSet renumbered(const SpringSet& springs, const std::vector<int>& new_of_ol
   });
   // then in rounds: every particle's first spring, then every particle's second, ...; within
   // a round the springs' a are increasing, mostly consecutive particles
-  std::vector<int> round(links.size(), 0);
-  for (size_t i = 1; i < links.size(); ++i)
-    if (links[i].a == links[i - 1].a) round[i] = round[i - 1] + 1;
+  const std::vector<int> round = spring_rounds(links);
   std::vector<size_t> order(links.size());
   for (size_t i = 0; i < order.size(); ++i) order[i] = i;
   std::stable_sort(order.begin(), order.end(),

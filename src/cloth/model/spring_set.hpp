@@ -119,7 +119,9 @@ SpringSet to_general(const SpringSet& springs);
 /// The springs between renumbered particles, as a general list laid out for the kernels: each
 /// spring from its lower new end a to its upper one b, in rounds (every particle's first
 /// spring by a, then every particle's second, ...), so that consecutive springs mostly start
-/// at consecutive particles, which the force kernel loads and updates as vectors.
+/// at consecutive particles, which the force kernel loads and updates as vectors. A spring
+/// (a, b) goes in the round of (a - 1, b - 1) where it can, so that within a round the other
+/// ends b are mostly consecutive as well.
 /// @param new_of_old  #P, the new index of each old particle (a permutation)
 SpringSet renumbered(const SpringSet& springs, const std::vector<int>& new_of_old);
 
