@@ -242,12 +242,11 @@ TEST_CASE("every shipped scenario loads, named after its file", "[scenario]") {
   const auto files = toml_files(kSource / "scenarios");
   std::vector<std::string> names;
   for (const fs::path& f : files) names.push_back(f.stem().string());
-  CHECK(names == std::vector<std::string>{"bullet_self_collision_demo", "cloth_pile", "curtain",
-                                          "cusick_drape", "flag", "flag_wind", "floor_drop",
-                                          "free_fall", "garment", "hanging_chain", "incline",
-                                          "lift_corners", "napkin_fold", "seed_sphere_drape",
-                                          "skirt", "sphere_sweep", "table", "tablecloth",
-                                          "towel_rail"});
+  CHECK(names == std::vector<std::string>{
+                     "bullet_self_collision_demo", "cloth_pile", "curtain", "cusick_drape", "flag",
+                     "flag_wind", "floor_drop", "free_fall", "garment", "hanging_chain", "incline",
+                     "lift_corners", "napkin_fold", "seed_sphere_drape", "skirt", "sphere_sweep",
+                     "table", "tablecloth", "towel_rail"});
   for (const fs::path& file : files) {
     INFO(file.filename().string());
     const Scenario s = load_scenario(file.string());

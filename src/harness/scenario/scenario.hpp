@@ -42,9 +42,9 @@ struct HandleSpec {
 struct EngineSpec {
   std::string name;  // unique within the scenario
   EngineKind kind = EngineKind::custom;
-  double dt = 1e-3;                 // s
-  cloth::SolverOptions solver;      // kind = custom
-  reference::BulletOptions bullet;  // kind = bullet-*
+  double dt = 1e-3;                    // s
+  cloth::SolverOptions solver;         // kind = custom
+  reference::BulletOptions bullet;     // kind = bullet-*
   std::optional<bool> self_collision;  // the engine's own setting; unset: the cloth's
 };
 
