@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <stdexcept>
 #include <string>
 
 #include "cloth/model/types.hpp"
@@ -54,6 +55,21 @@ class Simulator {
   virtual double unbooked() const { return 0.0; }
   /// Cost so far.
   virtual Counters counters() const = 0;
+  /// Whether set_state can put this engine into a given state (the growth measurement needs
+  /// it).
+  virtual bool can_set_state() const { return false; }
+  /// Puts the engine at simulated time t (s) with positions x (3 by #P, m) and velocities v
+  /// (3 by #P, m/s), as if a run had arrived there: the next step(dt) is then a function of
+  /// (x, v, t, dt) alone, whatever the engine did before (caches between steps, such as warm
+  /// starts, contact or resting flags, are re-derived from the state or cleared, and what
+  /// cannot be is documented by the engine). Held axes and handles take x as given. The
+  /// books (dissipated, contact_work, unbooked, counters) are kept. Throws std::logic_error
+  /// when !can_set_state().
+  virtual void set_state(const Matrix3X& x, const Matrix3X& v, double t);
 };
+
+inline void Simulator::set_state(const Matrix3X&, const Matrix3X&, double) {
+  throw std::logic_error("set_state: this engine cannot set its state");
+}
 
 }  // namespace cloth

@@ -1,0 +1,72 @@
+#pragma once
+/// @file growth_rate.hpp
+/// How fast a small perturbation of a state grows under an engine's step map, measured black
+/// box: set the state, step, read the state (Simulator::set_state).
+///
+/// The map Phi takes a state s = (x, v) at time t through `steps` steps of dt. Its Jacobian J
+/// at s is applied to a vector q by a finite difference, J q ~ (Phi(s + e q) - Phi(s)) / e,
+/// in scaled coordinates (positions over a length, velocities over a speed, both set by the
+/// state) so that one relative perturbation size suits both halves. Block (subspace)
+/// iteration with at least two vectors and a Rayleigh-Ritz step per iteration converges to
+/// the dominant eigenvalues of J, complex pairs included; rho is the largest modulus, the
+/// amplification of the fastest-growing mode over the map's time steps * dt. Only the free
+/// axes (Model::free) are perturbed; held axes stay as the state has them.
+///
+/// A map that is not differentiable at s (a contact switching on or off, stick turning to
+/// slip, an iteration stopping at a different count) gives difference quotients that depend
+/// on e and on its sign: the estimate compares the forward and backward differences on the
+/// converged vectors and reports the state as non-smooth when they disagree.
+
+#include <complex>
+#include <limits>
+#include <string>
+
+#include "cloth/model/simulator.hpp"
+#include "cloth/model/types.hpp"
+
+namespace cloth {
+
+/// A state of the step map.
+struct MapState {
+  Matrix3X x;  // 3 by #P positions (m)
+  Matrix3X v;  // 3 by #P velocities (m/s)
+  double t = 0;  // s
+};
+
+/// Smallest relative perturbation accepted: below it, round-off in the stepped state is as
+/// large as the difference it is to measure.
+constexpr double kMinPerturbation = 1e-12;
+
+/// Options of one growth estimate.
+struct GrowthOptions {
+  double perturbation = 1e-7;  // finite-difference size, relative to the state's scale
+  int vectors = 3;             // block size, at least 2 (complex pairs)
+  int max_iterations = 40;     // block iterations at most
+  double rel_tol = 1e-3;       // stop when rho changes by less than this, relatively
+  double nonsmooth_tol = 0.05;  // forward and backward differences disagreeing by more than
+                                // this (relative) call the state non-smooth
+};
+
+/// What one estimate found.
+struct GrowthEstimate {
+  double rho = std::numeric_limits<double>::quiet_NaN();   // largest |eigenvalue| of J
+  double rate = std::numeric_limits<double>::quiet_NaN();  // 1/s, ln(rho) / (steps dt)
+  std::complex<double> eigenvalue;                          // the dominant eigenvalue of J
+  bool smooth = true;            // false: the map is not differentiable at the state
+  std::string nonsmooth_reason;  // why not, in words without commas (CSV)
+  Matrix3X mode;                 // 3 by #P position part of the dominant mode (real part,
+                                 // largest entry 1 in modulus; 0 on held axes)
+  Matrix3X mode_velocity;        // 3 by #P velocity part, scaled alike
+  int iterations = 0;            // block iterations made
+  int products = 0;              // maps evaluated (each `steps` steps of the engine)
+  bool converged = false;        // rho settled to rel_tol within max_iterations
+};
+
+/// Estimates the growth of perturbations of state s under `steps` steps of dt of sim, whose
+/// free axes are free (3 by #P, 1 where the axis moves). sim is left in an unspecified state.
+/// Throws std::invalid_argument for a perturbation below kMinPerturbation, fewer than two
+/// vectors, steps < 1 or dt <= 0, and std::logic_error when sim cannot set its state.
+GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int steps,
+                               const Matrix3X& free, const GrowthOptions& o = {});
+
+}  // namespace cloth
