@@ -105,7 +105,7 @@ int execute_map(MapArgs a) {
   refuse_overwriting_input(a.scenario_path, o.out_dir, "map_scenario.toml");
   const OutputLock lock(o.out_dir);
   const std::vector<MapRow> rows = run_map(load, o);
-  std::cout << map_summary(o.varied, rows) << std::flush;
+  std::cout << map_summary(o.varied, rows, o.search.method) << std::flush;
   if (o.search.progress) std::cerr << "wrote " << o.out_dir << "/map.csv\n";
   return kExitOk;
 }
@@ -152,6 +152,7 @@ Command add_map_command(CLI::App& app) {
                 "for another scenario, other --vary values or other options)");
   map->add_option("--set,-s", a->overrides, "override a scenario key at every point (repeatable)")
       ->allow_extra_args(false);
+  add_growth_options(map, s);
   add_shard_option(map, a->options.shard);
   add_max_run_seconds(map, a->max_run_seconds);
   map->add_flag("--quiet,-q", a->quiet, "no progress on stderr");

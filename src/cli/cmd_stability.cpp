@@ -35,7 +35,7 @@ int execute_stability(StabilityArgs a) {
   refuse_overwriting_input(a.scenario_path, o.out_dir, kStabilitySidecar);
   const OutputLock lock(o.out_dir);
   const std::vector<StabilityRow> rows = run_stability(sc, o);
-  std::cout << stability_summary(rows) << std::flush;
+  std::cout << stability_summary(rows, o.method) << std::flush;
   if (o.progress) std::cerr << "wrote " << o.out_dir << "/stability.csv\n";
   return kExitOk;
 }
@@ -47,10 +47,12 @@ Command add_stability_command(CLI::App& app) {
   StabilityOptions& o = a->options;
   CLI::App* stability = app.add_subcommand(
       "stability",
-      "Find the largest stable time step of each engine and integrator, measured by search\n"
-      "(doubling, then bisection, over steps that divide the run's length) and predicted by\n"
-      "linear theory; writes stability.csv, whose rerun columns replay a row with `clothbench\n"
-      "run SCENARIO <rerun>`, and stability_scenario.toml, which --resume checks.");
+      "Find the largest stable time step of each engine and integrator, measured by blow-up\n"
+      "search (doubling, then bisection, over steps that divide the run's length) and by the\n"
+      "growth of small perturbations (--method), and predicted by linear theory; writes\n"
+      "stability.csv, whose rerun columns replay a blow-up row with `clothbench run SCENARIO\n"
+      "<rerun>`, stability_modes/ROW.npy (the growing mode of row ROW, shape 3 by #P), and\n"
+      "stability_scenario.toml, which --resume checks.");
   stability->add_option("scenario", a->scenario_path,
                         "scenario file (TOML); default: the embedded seed scene");
   stability->add_option("--out,-o", o.out_dir, "output folder (default: out/<scenario name>)");
@@ -70,9 +72,12 @@ Command add_stability_command(CLI::App& app) {
       ->check(positive_integer());
   stability->add_flag("--resume", o.resume,
                       "keep the rows already in stability.csv and search only the rest (refused\n"
-                      "when the scenario, --set, --engine, --dt-max or --rel-tol differ)");
+                      "when the scenario, --set, --engine, --dt-max, --rel-tol, --method,\n"
+                      "--perturbation or --growth-tol differ)");
   stability->add_option("--set,-s", a->overrides, "override a scenario key (repeatable)")
       ->allow_extra_args(false);
+  o.method = StabilityMethod::both;  // every column map, check and the plots read, and growth
+  add_growth_options(stability, o);
   add_shard_option(stability, o.shard);
   add_max_run_seconds(stability, a->max_run_seconds);
   stability->add_flag("--quiet,-q", a->quiet, "no progress on stderr");

@@ -66,6 +66,7 @@ StabilityOptions quick_options(const std::string& out) {
   o.engines = {"custom"};
   o.progress = false;
   o.jobs = 2;
+  o.method = StabilityMethod::blowup;  // the growth method: test_growth_search.cpp
   return o;
 }
 
@@ -278,7 +279,9 @@ TEST_CASE("stability resume runs only the missing rows of the same sweep", "[sta
   const std::string full = read_file(csv);
   CHECK(full.substr(0, full.find('\n')) ==
         "engine,integrator,stable_dt,first_unstable_dt,predicted_dt,ratio_measured_to_predicted,"
-        "cause,runs,rerun,rerun_unstable");
+        "cause,runs,rerun,rerun_unstable,method,growth_stable_dt,growth_first_unstable_dt,"
+        "growth_rate,physical_rate,growth_ratio,growth_cause,mode_structural,mode_shear,"
+        "mode_bend,growth_steps,blowup_steps");
   CHECK(fs::exists(dir.path / "stability_scenario.toml"));
 
   // nothing left to do: every row read back, not one simulation run

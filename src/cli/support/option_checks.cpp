@@ -84,4 +84,26 @@ void require_known_command(const CLI::App& app, int argc, char** argv) {
                   " (clothbench --help says what each does)");
 }
 
+void add_growth_options(CLI::App* sub, StabilityOptions& o) {
+  sub->add_option_function<std::string>(
+         "--method", [&o](const std::string& m) { o.method = parse_stability_method(m); },
+         std::string(
+             "blowup: the largest dt whose run over the scenario's duration stays finite;\n"
+             "growth: the largest dt at which no small perturbation grows faster than its\n"
+             "physical rate (measured in steps of dt / 8) plus --growth-tol, at a few states of\n"
+             "a reference trajectory (the start, the fastest, the most contacts), without\n"
+             "waiting for a blow-up; both: both column sets (default: ") +
+             stability_method_name(o.method) + ")")
+      ->check(CLI::IsMember({"blowup", "growth", "both"}));
+  sub->add_option("--perturbation", o.perturbation,
+                  "growth: finite-difference size, relative to the state's scale (positions\n"
+                  "over the cloth's extent, velocities over extent / dt); at least 1e-12")
+      ->capture_default_str();
+  sub->add_option("--growth-tol", o.growth_tol,
+                  "growth: a dt is unstable when a perturbation grows faster than the state's\n"
+                  "physical rate by more than this (1/s; default ln 10: tenfold per second)")
+      ->capture_default_str()
+      ->check(positive_number());
+}
+
 }  // namespace clothbench::cli

@@ -9,6 +9,7 @@
 
 #include "cloth/model/integrator.hpp"
 #include "harness/sweeps/shard.hpp"
+#include "harness/sweeps/stability_sweep.hpp"
 
 namespace clothbench::cli {
 
@@ -28,6 +29,10 @@ void add_integrator_option(CLI::App* sub, std::vector<cloth::Integrator>& integr
 
 /// Adds --shard K/N to sub (a sweep's share for a cluster; shard.hpp), parsed into shard.
 void add_shard_option(CLI::App* sub, Shard& shard);
+
+/// --method, --perturbation and --growth-tol of a stability search (stability_sweep.hpp),
+/// their defaults those of o.
+void add_growth_options(CLI::App* sub, StabilityOptions& o);
 
 /// Throws UserError when argv names a command the app does not have
 /// (CLI11 alone says "A subcommand is required"): names it and lists the known ones.

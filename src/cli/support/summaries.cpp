@@ -34,28 +34,61 @@ std::string run_summary(const RunResult& result) {
   return out.str();
 }
 
-std::string stability_summary(const std::vector<StabilityRow>& rows) {
+namespace {
+
+std::string limit_text(double dt) {
+  return std::isfinite(dt) ? format_double(dt) : "none";
+}
+
+std::string ratio_text(double ratio) {
+  return std::isfinite(ratio) ? format_double(std::round(ratio * 1000) / 1000) : "";
+}
+
+/// What sets a growth limit, in a word: contact, free, bound (nothing grew up to --dt-max),
+/// non-smooth, or "" without a growth measurement.
+std::string growth_by(const StabilityRow& r) {
+  const std::string& c = r.growth.cause;
+  if (c.rfind("set by contact", 0) == 0) return "contact";
+  if (c.rfind("free", 0) == 0) return "free";
+  if (c.rfind("no growth", 0) == 0) return "bound";
+  if (c.rfind("non-smooth", 0) == 0) return "non-smooth";
+  return "";
+}
+
+}  // namespace
+
+std::string stability_summary(const std::vector<StabilityRow>& rows, StabilityMethod method) {
   std::ostringstream out;
-  out << "engine,integrator,stable_dt,first_unstable_dt,predicted_dt,ratio\n";
+  const bool blowup = method != StabilityMethod::growth, growth = method != StabilityMethod::blowup;
+  out << "engine,integrator";
+  if (blowup) out << ",stable_dt,first_unstable_dt";
+  out << ",predicted_dt";
+  if (blowup) out << ",ratio";
+  if (growth) out << ",growth_stable_dt,growth_first_unstable_dt,growth_ratio,growth_by";
+  out << '\n';
   for (const StabilityRow& r : rows) {
     // "none": no stable dt found, or no failure up to --dt-max (the ratio is then left out)
-    out << r.engine << ',' << r.integrator << ','
-        << (std::isfinite(r.stable_dt) ? format_double(r.stable_dt) : "none") << ','
-        << (std::isfinite(r.first_unstable_dt) ? format_double(r.first_unstable_dt) : "none") << ','
-        << (std::isnan(r.predicted_dt) ? "" : format_double(r.predicted_dt)) << ','
-        << (std::isfinite(r.ratio) ? format_double(std::round(r.ratio * 1000) / 1000) : "") << '\n';
+    out << r.engine << ',' << r.integrator;
+    if (blowup) out << ',' << limit_text(r.stable_dt) << ',' << limit_text(r.first_unstable_dt);
+    out << ',' << (std::isnan(r.predicted_dt) ? "" : format_double(r.predicted_dt));
+    if (blowup) out << ',' << ratio_text(r.ratio);
+    if (growth)
+      out << ',' << limit_text(r.growth.stable_dt) << ',' << limit_text(r.growth.first_unstable_dt)
+          << ',' << ratio_text(r.growth_ratio) << ',' << growth_by(r);
+    out << '\n';
   }
   return out.str();
 }
 
-std::string map_summary(const std::vector<VariedKey>& varied, const std::vector<MapRow>& rows) {
+std::string map_summary(const std::vector<VariedKey>& varied, const std::vector<MapRow>& rows,
+                        StabilityMethod method) {
   std::ostringstream out;
   std::string header;
   for (const VariedKey& k : varied) header += k.key + ",";
-  const std::string stability_columns = stability_summary({});
+  const std::string stability_columns = stability_summary({}, method);
   out << header << stability_columns;
   for (const MapRow& r : rows) {
-    std::string line = stability_summary({r.stability}).substr(stability_columns.size());
+    std::string line = stability_summary({r.stability}, method).substr(stability_columns.size());
     for (auto v = r.values.rbegin(); v != r.values.rend(); ++v) line = csv_field(*v) + "," + line;
     out << line;
   }

@@ -19,10 +19,11 @@ std::string run_summary(const RunResult& result);
 
 /// `clothbench stability`: per engine and integrator the searched and predicted limits;
 /// "none" where no stable dt was found or nothing failed up to --dt-max.
-std::string stability_summary(const std::vector<StabilityRow>& rows);
+std::string stability_summary(const std::vector<StabilityRow>& rows, StabilityMethod method);
 
 /// The map as printed by `clothbench map`: the varied values, engine, integrator, measured
 /// and predicted limits and their ratio.
-std::string map_summary(const std::vector<VariedKey>& varied, const std::vector<MapRow>& rows);
+std::string map_summary(const std::vector<VariedKey>& varied, const std::vector<MapRow>& rows,
+                        StabilityMethod method);
 
 }  // namespace clothbench

@@ -347,6 +347,7 @@ CheckRun run_check(const CheckPlan& plan, const CheckOptions& o) {
     so.rel_tol = plan.tol.stability_rel_tol;
     so.jobs = o.jobs;
     so.progress = o.progress;
+    so.method = StabilityMethod::blowup;  // the baselines gate the blow-up limits
     now.stability = run_stability(plan.sc, so);
   }
   now.brackets = brackets_of(now.stability);

@@ -28,7 +28,26 @@ const std::vector<OutputColumn>& stability_columns() {
       {"cause", "text", "how the first unstable run failed, and the limiting mode"},
       {"runs", "count", "simulations the search took"},
       {"rerun", "text", "the --set overrides that rerun the stable_dt run"},
-      {"rerun_unstable", "text", "the --set overrides that rerun the first_unstable_dt run"}};
+      {"rerun_unstable", "text", "the --set overrides that rerun the first_unstable_dt run"},
+      {"method", "text", "blowup, growth or both: which limits the row holds"},
+      {"growth_stable_dt", "s",
+       "largest time step at which no perturbation grows faster than the physical rate plus "
+       "--growth-tol; empty when none"},
+      {"growth_first_unstable_dt", "s",
+       "smallest time step found unstable by growth above growth_stable_dt; inf when none up "
+       "to --dt-max"},
+      {"growth_rate", "1/s",
+       "growth rate ln(rho) / dt of the fastest-growing state at growth_first_unstable_dt"},
+      {"physical_rate", "1/s", "that state's growth rate measured in steps of dt / 8"},
+      {"growth_ratio", "1", "growth_stable_dt / predicted_dt when both limits were found"},
+      {"growth_cause", "text",
+       "where the growth is: set by contact (only the state in contact grows) or free, and "
+       "states where the step map is not smooth"},
+      {"mode_structural", "1", "the growing mode's spring energy in structural springs, fraction"},
+      {"mode_shear", "1", "the same in shear springs"},
+      {"mode_bend", "1", "the same in bend springs"},
+      {"growth_steps", "count", "engine steps the growth measurement took"},
+      {"blowup_steps", "count", "engine steps the blow-up search took"}};
   return columns;
 }
 

@@ -8,6 +8,7 @@
 #include "harness/io/output_schema.hpp"
 #include "harness/io/text_file.hpp"
 #include "harness/io/user_error.hpp"
+#include "harness/run/trajectory_files.hpp"
 #include "harness/scenario/scenario_loader.hpp"
 #include "harness/scenario/scenario_writer.hpp"
 
@@ -38,6 +39,14 @@ std::pair<std::string, std::string> options_and_scenario(const std::string& text
 }  // namespace
 
 const char* const kStabilitySidecar = "stability_scenario.toml";
+const char* const kStabilityModes = "stability_modes";
+
+void write_mode(const std::string& path, const cloth::Matrix3X& mode) {
+  const std::vector<float> values(mode.data(), mode.data() + mode.size());  // row-major
+  AtomicFile f(path);
+  f.write(npy_float32({3, static_cast<size_t>(mode.cols())}, values));
+  f.commit();
+}
 
 const std::vector<std::string>& stability_header() {
   static const std::vector<std::string> header = output_header("stability.csv");
@@ -54,7 +63,19 @@ std::vector<std::string> stability_fields(const StabilityRow& row) {
           row.cause,
           std::to_string(row.runs),
           row.rerun,
-          row.rerun_unstable};
+          row.rerun_unstable,
+          row.method,
+          field(row.growth.stable_dt),
+          field(row.growth.first_unstable_dt),
+          field(row.growth.growth_rate),
+          field(row.growth.physical_rate),
+          field(row.growth_ratio),
+          row.growth.cause,
+          field(row.growth.mode_energy[0]),
+          field(row.growth.mode_energy[1]),
+          field(row.growth.mode_energy[2]),
+          std::to_string(row.growth.steps),
+          std::to_string(row.blowup_steps)};
 }
 
 StabilityRow stability_row(const CsvRecord& record) {
@@ -69,6 +90,16 @@ StabilityRow stability_row(const CsvRecord& record) {
   row.runs = static_cast<int>(record.integer(7));
   row.rerun = record.text(8);
   row.rerun_unstable = record.text(9);
+  row.method = record.text(10);
+  row.growth.stable_dt = record.number(11, kNaN);
+  row.growth.first_unstable_dt = record.number(12, kInf);
+  row.growth.growth_rate = record.number(13, kNaN);
+  row.growth.physical_rate = record.number(14, kNaN);
+  row.growth_ratio = record.number(15, kNaN);
+  row.growth.cause = record.text(16);
+  for (int k = 0; k < 3; ++k) row.growth.mode_energy[size_t(k)] = record.number(17 + k, kNaN);
+  row.growth.steps = record.integer(20);
+  row.blowup_steps = record.integer(21);
   row.resumed = true;
   return row;
 }
@@ -77,8 +108,9 @@ std::string stability_sidecar_text(const Scenario& sc, const StabilityOptions& o
   return "# the stability sweep whose rows stability.csv holds; --resume continues it only\n"
          "# with this scenario and these options:\n"
          "#   --dt-max " +
-         format_double(o.dt_max) + " --rel-tol " + format_double(o.rel_tol) + "\n" +
-         scenario_to_toml(sc);
+         format_double(o.dt_max) + " --rel-tol " + format_double(o.rel_tol) + " --method " +
+         stability_method_name(o.method) + " --perturbation " + format_double(o.perturbation) +
+         " --growth-tol " + format_double(o.growth_tol) + "\n" + scenario_to_toml(sc);
 }
 
 void check_stability_resumable(const std::string& dir, const Scenario& sc,

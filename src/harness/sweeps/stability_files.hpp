@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "cloth/model/types.hpp"
 #include "harness/io/csv_reader.hpp"
 #include "harness/scenario/scenario.hpp"
 #include "harness/sweeps/stability_sweep.hpp"
@@ -17,6 +18,12 @@ const std::vector<std::string>& stability_header();
 
 /// Name of the file beside stability.csv that records the scenario and options.
 extern const char* const kStabilitySidecar;
+
+/// Name of the folder beside stability.csv that holds the growing modes, ROW.npy each.
+extern const char* const kStabilityModes;
+
+/// Writes mode (3 by #P) to path as a float32 .npy array of shape (3, #P), atomically.
+void write_mode(const std::string& path, const cloth::Matrix3X& mode);
 
 /// The fields of a row as written to stability.csv (infinite or NaN numbers empty).
 std::vector<std::string> stability_fields(const StabilityRow& row);

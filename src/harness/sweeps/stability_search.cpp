@@ -24,7 +24,7 @@ class Search {
     ++m_bracket.runs;
     if (interrupt_requested()) throw Interrupted();
     return stable_run(m_sc, with_integrator_and_dt(m_engine, m_integrator, m_horizon / double(n)),
-                      &m_cause);
+                      &m_cause, &m_bracket.steps);
   }
 
   /// From n0: double dt (halve n) until a run fails or n_min is reached.
@@ -109,7 +109,7 @@ std::string stability_rerun(const Scenario& sc, const EngineSpec& e) {
   return s;
 }
 
-bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause) {
+bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause, long long* steps) {
   // one frame over the horizon: the blow-up check runs every step regardless
   Scenario s = sc;
   s.duration = s.frame_interval = stability_horizon(sc);
@@ -117,6 +117,7 @@ bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause) {
   const cloth::Model model = cloth::build_model(s.scene);
   const EngineRun run = run_engine(s, e, model, nullptr, false);
   if (!run.stable && cause) *cause = run.timed_out ? "timeout" : run.cause;
+  if (steps) *steps += run.counters.steps;
   return run.stable;
 }
 

@@ -27,8 +27,9 @@ std::string stability_rerun(const Scenario& sc, const EngineSpec& e);
 
 /// Whether one run of engine e over the horizon stays stable; cause says how it failed
 /// ("non-finite", "strain", or "timeout" after sc.max_run_seconds). Runs llround(horizon /
-/// e.dt) steps.
-bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause);
+/// e.dt) steps, fewer when it fails; steps (when given) gains the steps run.
+bool stable_run(const Scenario& sc, const EngineSpec& e, std::string* cause,
+                long long* steps = nullptr);
 
 /// Where a search ended, on the step grid dt = horizon / n: n_stable steps were stable and
 /// n_unstable (< n_stable) steps were not; 0 where none was found.
@@ -38,6 +39,7 @@ struct StabilityBracket {
   long long n_start = 0;       // step count of the first run
   std::string unstable_cause;  // how the n_unstable run failed
   int runs = 0;                // simulations the search took
+  long long steps = 0;         // engine steps of all its runs
 };
 
 /// Searches the limit of engine (integrator and dt applied per run) from n_start steps:

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iostream>
 #include <limits>
 #include <stdexcept>
 
@@ -25,6 +26,7 @@ namespace {
 struct StabilityConfig {
   EngineSpec engine;
   std::optional<cloth::Integrator> integrator;  // none for Bullet engines
+  size_t row = 0;                               // its row in the whole sweep's stability.csv
   std::string key() const { return engine.name + "," + integrator_label(integrator); }
 };
 
@@ -39,6 +41,12 @@ void check_options(const StabilityOptions& o) {
   if (o.out_dir.empty()) throw UserError("stability: no output folder given");
   if (!(o.dt_max > 0)) throw UserError("--dt-max: expected a time step > 0");
   if (!(o.rel_tol > 0)) throw UserError("--rel-tol: expected a number > 0");
+  if (!(o.growth_tol > 0)) throw UserError("--growth-tol: expected a rate > 0 (1/s)");
+  if (!(o.perturbation >= cloth::kMinPerturbation))
+    throw UserError("--perturbation " + format_double(o.perturbation) +
+                    ": below round-off; expected at least " +
+                    format_double(cloth::kMinPerturbation) +
+                    " (relative to the state's scale; the default is 1e-7)");
 }
 
 /// Throws UserError naming --dt-max when every run would take more than kMaxSteps steps.
@@ -88,6 +96,7 @@ std::vector<StabilityConfig> shard_configs(const std::vector<StabilityConfig>& a
   for (size_t i = 0; i < all.size(); ++i) {
     plan.units.push_back(join_fields({all[i].engine.name, integrator_label(all[i].integrator)}, 2));
     if (shard.owns(i)) mine.push_back(all[i]);
+    if (shard.owns(i)) mine.back().row = i;
   }
   return mine;
 }
@@ -143,13 +152,13 @@ std::string cause_of(const StabilityConfig& c, const StabilityBracket& b, const 
   return cause;
 }
 
-/// The row of a finished search: the limits, their reruns, the prediction and the cause.
-StabilityRow measure(const Scenario& sc, const StabilityConfig& c, const StabilityBracket& b,
-                     const StepGrid& grid, const cloth::LinearSpectrum& spectrum, double dt_max) {
-  StabilityRow row;
-  row.engine = c.engine.name;
-  row.integrator = integrator_label(c.integrator);
+/// The blow-up columns of a finished search: the limits, their reruns, the prediction and the
+/// cause.
+void measure(const Scenario& sc, const StabilityConfig& c, const StabilityBracket& b,
+             const StepGrid& grid, const cloth::LinearSpectrum& spectrum, double dt_max,
+             StabilityRow& row) {
   row.runs = b.runs;
+  row.blowup_steps = b.steps;
   const auto spec = [&](long long n) {
     return with_integrator_and_dt(c.engine, c.integrator, grid.dt(n));
   };
@@ -157,13 +166,27 @@ StabilityRow measure(const Scenario& sc, const StabilityConfig& c, const Stabili
   if (b.n_unstable > 0) row.first_unstable_dt = grid.dt(b.n_unstable);
   if (b.n_stable > 0) row.rerun = stability_rerun(sc, spec(b.n_stable));
   if (b.n_unstable > 0) row.rerun_unstable = stability_rerun(sc, spec(b.n_unstable));
-  if (c.engine.kind == EngineKind::custom)
-    row.predicted_dt = cloth::predicted_stable_dt(c.engine.solver.integrator, spectrum);
   row.cause = cause_of(c, b, grid, spectrum, row.predicted_dt, dt_max, sc.max_run_seconds);
   // a ratio only between two limits: a bound or a missing measurement gives none
   if (b.n_stable > 0 && b.n_unstable > 0 && std::isfinite(row.predicted_dt))
     row.ratio = row.stable_dt / row.predicted_dt;
-  return row;
+}
+
+/// The growth columns: the limit measured by growth from the predicted limit (custom engines
+/// with a finite one) or the engine's dt, and its ratio to the prediction.
+void measure_growth(const Scenario& sc, const StabilityConfig& c,
+                    const std::vector<GrowthState>& states, const StabilityOptions& o,
+                    StabilityRow& row) {
+  GrowthSearchOptions go;
+  go.perturbation = o.perturbation;
+  go.growth_tol = o.growth_tol;
+  go.rel_tol = o.rel_tol;
+  go.dt_max = o.dt_max;
+  const double start = std::isfinite(row.predicted_dt) ? row.predicted_dt : c.engine.dt;
+  row.growth = search_growth_limit(sc, c.engine, states, start, go);
+  if (std::isfinite(row.growth.stable_dt) && std::isfinite(row.growth.first_unstable_dt) &&
+      std::isfinite(row.predicted_dt))
+    row.growth_ratio = row.growth.stable_dt / row.predicted_dt;
 }
 
 /// Searches one configuration from the engine's dt (or dt_max when that is smaller).
@@ -174,7 +197,47 @@ StabilityBracket search(const Scenario& sc, const StabilityConfig& c, const Step
                                 grid.n_min, rel_tol);
 }
 
+/// One configuration's row by the chosen methods; its mode written when growth found one.
+StabilityRow measure_config(const Scenario& sc, const StabilityConfig& c, const StepGrid& grid,
+                            const cloth::LinearSpectrum& spectrum,
+                            const std::vector<GrowthState>& states, const StabilityOptions& o,
+                            const std::string& dir) {
+  StabilityRow row;
+  row.engine = c.engine.name;
+  row.integrator = integrator_label(c.integrator);
+  row.method = stability_method_name(o.method);
+  if (c.engine.kind == EngineKind::custom)
+    row.predicted_dt = cloth::predicted_stable_dt(c.engine.solver.integrator, spectrum);
+  if (o.method != StabilityMethod::growth)
+    measure(sc, c, search(sc, c, grid, o.rel_tol), grid, spectrum, o.dt_max, row);
+  if (o.method != StabilityMethod::blowup) {
+    measure_growth(sc, c, states, o, row);
+    if (row.growth.mode.size() > 0)
+      write_mode(dir + kStabilityModes + "/" + std::to_string(c.row) + ".npy", row.growth.mode);
+  }
+  return row;
+}
+
 }  // namespace
+
+const char* stability_method_name(StabilityMethod m) {
+  switch (m) {
+    case StabilityMethod::blowup:
+      return "blowup";
+    case StabilityMethod::growth:
+      return "growth";
+    case StabilityMethod::both:
+      return "both";
+  }
+  return "both";
+}
+
+StabilityMethod parse_stability_method(const std::string& name) {
+  for (StabilityMethod m :
+       {StabilityMethod::blowup, StabilityMethod::growth, StabilityMethod::both})
+    if (name == stability_method_name(m)) return m;
+  throw UserError("--method " + name + ": expected blowup, growth or both");
+}
 
 std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptions& o) {
   // plan: what to search, in which folder, on which step grid
@@ -186,6 +249,15 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
   SweepTable table(dir + "stability.csv", stability_header(), 2, o.resume);
   const StepGrid grid = step_grid(sc, o);
   const cloth::LinearSpectrum spectrum = cloth::linear_spectrum(cloth::build_model(sc.scene));
+  std::vector<GrowthState> states;
+  if (o.method != StabilityMethod::blowup) {
+    if (o.progress)
+      std::cerr << "growth: the reference states (rk4 over " << format_double(kGrowthWindow)
+                << " s)\n";
+    states = growth_states(sc);
+    make_directories(dir + kStabilityModes);
+    write_mode(dir + kStabilityModes + "/rest.npy", cloth::build_model(sc.scene).x0);
+  }
 
   // run and measure every search the folder does not hold yet, reporting each row as it ends
   Progress progress(double(configs.size()), "searches", o.progress);
@@ -198,7 +270,7 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
       progress.advance(1, c.key() + " (resumed)");
       return;
     }
-    row = measure(sc, c, search(sc, c, grid, o.rel_tol), grid, spectrum, o.dt_max);
+    row = measure_config(sc, c, grid, spectrum, states, o, dir);
     table.append(stability_fields(row));
     progress.advance(1, c.key());
   });

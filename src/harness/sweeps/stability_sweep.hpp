@@ -9,11 +9,20 @@
 /// can be replayed with `clothbench run` by setting frame_interval to the horizon (which every
 /// engine's dt divides, since each divides frame_interval) and dt to horizon / N.
 ///
+/// Two methods, chosen by StabilityOptions::method: "blowup" searches the largest dt whose run
+/// over the horizon stays finite and within the strain limit (above); "growth" measures how
+/// fast a small perturbation grows at a few reference states, without waiting for a blow-up
+/// (growth_search.hpp), so its limit does not depend on the horizon; "both" does both.
+///
 /// Files written into StabilityOptions::out_dir:
 ///   stability.csv             one row per engine and integrator (columns: io/output_schema.cpp,
 ///                             printed by `clothbench schema --outputs`)
-///   stability_scenario.toml   the resolved scenario and the search options (checked by resume)
-///   shard.toml                with --shard: which share of the sweep (shard.hpp)
+///   stability_modes/ROW.npy   growth: the growing mode of row ROW (its index in stability.csv
+///                             counting from 0), float32 of shape (3, #P)
+///   stability_modes/rest.npy  growth: the cloth's rest positions, the same shape (m), at
+///   growth_first_unstable_dt stability_scenario.toml   the resolved scenario and the search
+///   options (checked by resume) shard.toml                with --shard: which share of the sweep
+///   (shard.hpp)
 
 #include <limits>
 #include <string>
@@ -21,11 +30,21 @@
 
 #include "harness/run/run_parallel.hpp"
 #include "harness/scenario/scenario.hpp"
+#include "harness/sweeps/growth_search.hpp"
 #include "harness/sweeps/shard.hpp"
 #include "harness/sweeps/stability_search.hpp"
 #include "harness/sweeps/sweep.hpp"
 
 namespace clothbench {
+
+/// How `clothbench stability` finds a limit.
+enum class StabilityMethod { blowup, growth, both };
+
+/// "blowup", "growth" or "both".
+const char* stability_method_name(StabilityMethod m);
+
+/// The method of that name; throws UserError for another.
+StabilityMethod parse_stability_method(const std::string& name);
 
 /// Options of a stability search.
 struct StabilityOptions {
@@ -39,6 +58,9 @@ struct StabilityOptions {
   bool resume = false;
   bool progress = true;
   Shard shard;  // --shard K/N: only this share of the searches (shard.hpp)
+  StabilityMethod method = StabilityMethod::blowup;  // `clothbench stability`: both
+  double perturbation = 1e-7;                        // growth: relative finite-difference size
+  double growth_tol = kDefaultGrowthTol;             // growth: 1/s beyond the physical rate
 };
 
 /// One row of stability.csv.
@@ -60,6 +82,11 @@ struct StabilityRow {
   std::string rerun_unstable;  // --set overrides that rerun the first_unstable_dt run
   int runs = 0;                // simulations the search took
   bool resumed = false;        // read back from an earlier sweep's stability.csv (no new runs)
+  std::string method;          // "blowup", "growth" or "both"
+  GrowthLimit growth;          // growth: the limit found (growth_search.hpp)
+  double growth_ratio = std::numeric_limits<double>::quiet_NaN();  // growth.stable_dt /
+                                                                   // predicted_dt
+  long long blowup_steps = 0;  // engine steps the blow-up search took
 };
 
 /// Finds the limits: from the engine's dt (or dt_max when that is smaller), doubling until a

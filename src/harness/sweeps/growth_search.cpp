@@ -1,0 +1,220 @@
+#include "harness/sweeps/growth_search.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "cloth/model/spring_set.hpp"
+#include "harness/engines/engine_factory.hpp"
+#include "harness/io/csv_writer.hpp"
+#include "harness/run/runner.hpp"
+#include "harness/scenario/scenario_format.hpp"
+#include "harness/sweeps/sweep.hpp"
+
+namespace clothbench {
+
+namespace {
+
+/// Sub-steps of the physical map: the same time as one step of dt, in steps of dt / 8.
+constexpr int kPhysicalSubsteps = 8;
+
+/// The engine of the configuration at time step dt (engines may prepare for their dt when
+/// built, as bullet-softbody's matched stiffness and the projective solver's factor do).
+std::unique_ptr<cloth::Simulator> engine_at(const Scenario& sc, const EngineSpec& e, double dt) {
+  EngineSpec spec = e;
+  spec.dt = dt;
+  return make_engine(spec, sc.scene);
+}
+
+/// The growth at one state: the one-step map, then (when it grows faster than the tolerance)
+/// the physical map in sub-steps.
+StateGrowth judge_state(const Scenario& sc, const EngineSpec& e, const cloth::Model& model,
+                        const GrowthState& s, double dt, const GrowthSearchOptions& o,
+                        long long* steps) {
+  cloth::GrowthOptions go;
+  go.perturbation = o.perturbation;
+  StateGrowth g;
+  g.label = s.label;
+  g.contacts = s.contacts;
+  auto sim = engine_at(sc, e, dt);
+  g.estimate = cloth::estimate_growth(*sim, s.state, dt, 1, model.free, go);
+  *steps += g.estimate.products;
+  g.smooth = g.estimate.smooth;
+  g.nonsmooth_reason = g.estimate.nonsmooth_reason;
+  g.rate = g.estimate.rate;
+  if (!g.smooth || !(g.rate > o.growth_tol)) return g;
+  if (interrupt_requested()) throw Interrupted();
+
+  // the physical growth over the same time, in steps of dt / 8
+  const double h = dt / kPhysicalSubsteps;
+  auto fine = engine_at(sc, e, h);
+  const cloth::GrowthEstimate phys =
+      cloth::estimate_growth(*fine, s.state, h, kPhysicalSubsteps, model.free, go);
+  *steps += static_cast<long long>(phys.products) * kPhysicalSubsteps;
+  if (!phys.smooth) {
+    // no physical rate to compare with: no verdict at this state
+    g.smooth = false;
+    g.nonsmooth_reason = "in steps of dt / 8: " + phys.nonsmooth_reason;
+    return g;
+  }
+  g.physical_rate = phys.rate;
+  g.unstable = g.rate - std::max(g.physical_rate, 0.0) > o.growth_tol;
+  return g;
+}
+
+/// The verdict on a time step: unstable when a smooth state is; none when no state is smooth.
+enum class Verdict { stable, unstable, nonsmooth };
+
+Verdict verdict_of(const std::vector<StateGrowth>& states) {
+  bool any_smooth = false;
+  for (const StateGrowth& g : states) {
+    if (g.smooth && g.unstable) return Verdict::unstable;
+    any_smooth = any_smooth || g.smooth;
+  }
+  return any_smooth ? Verdict::stable : Verdict::nonsmooth;
+}
+
+/// The search's bracket and the states judged at its ends.
+class GrowthSearch {
+ public:
+  GrowthSearch(const Scenario& sc, const EngineSpec& e, const std::vector<GrowthState>& states,
+               const GrowthSearchOptions& o)
+      : m_sc(sc), m_e(e), m_model(cloth::build_model(sc.scene)), m_states(states), m_o(o) {}
+
+  Verdict judge(double dt) {
+    if (interrupt_requested()) throw Interrupted();
+    ++m_limit.judged;
+    m_last = judge_growth(m_sc, m_e, m_model, m_states, dt, m_o, &m_limit.steps);
+    const Verdict v = verdict_of(m_last);
+    if (v == Verdict::unstable) {
+      m_limit.first_unstable_dt = dt;
+      m_unstable = m_last;
+    } else if (v == Verdict::stable) {
+      m_limit.stable_dt = dt;
+    } else {
+      m_nonsmooth_dt = dt;
+    }
+    return v;
+  }
+
+  /// Brackets from dt_start: doubling while stable, halving while unstable.
+  void bracket(double dt_start) {
+    double dt = std::min(dt_start, m_o.dt_max);
+    Verdict v = judge(dt);
+    for (int k = 0; v == Verdict::stable && dt < m_o.dt_max; ++k) {
+      dt = std::min(2 * dt, m_o.dt_max);
+      v = judge(dt);
+    }
+    for (int k = 0; v == Verdict::unstable && k < m_o.max_halvings; ++k) {
+      dt /= 2;
+      v = judge(dt);
+    }
+  }
+
+  /// Bisects on a log scale down to rel_tol.
+  void bisect() {
+    GrowthLimit& l = m_limit;
+    while (std::isfinite(l.stable_dt) && std::isfinite(l.first_unstable_dt) &&
+           l.first_unstable_dt / l.stable_dt - 1 > m_o.rel_tol && m_nonsmooth_dt == 0) {
+      if (judge(std::sqrt(l.stable_dt * l.first_unstable_dt)) == Verdict::nonsmooth) break;
+    }
+  }
+
+  GrowthLimit finish() {
+    GrowthLimit& l = m_limit;
+    const StateGrowth* worst = nullptr;
+    for (const StateGrowth& g : m_unstable)
+      if (g.smooth && g.unstable && (!worst || g.rate > worst->rate)) worst = &g;
+    if (worst) {
+      l.growth_rate = worst->rate;
+      l.physical_rate = worst->physical_rate;
+      l.mode = worst->estimate.mode;
+      const GrowthState& s = state(worst->label);
+      l.mode_energy = mode_energy_by_kind(m_model, s.state.x, l.mode);
+    }
+    l.cause = cause();
+    return l;
+  }
+
+ private:
+  const GrowthState& state(const std::string& label) const {
+    return *std::find_if(m_states.begin(), m_states.end(),
+                         [&](const GrowthState& s) { return s.label == label; });
+  }
+
+  /// Which states grow at first_unstable_dt: only those in contact, or free ones too.
+  std::string cause() const {
+    std::string free_unstable, contact_unstable, free_stable, nonsmooth;
+    for (const StateGrowth& g : m_unstable.empty() ? m_last : m_unstable) {
+      const std::string what = "'" + g.label + "' at " + format_double(g.rate) + "/s";
+      if (!g.smooth)
+        nonsmooth += (nonsmooth.empty() ? "" : " ") + g.label + ": " + g.nonsmooth_reason;
+      else if (g.unstable && g.contacts > 0)
+        contact_unstable += (contact_unstable.empty() ? "" : " ") + what;
+      else if (g.unstable)
+        free_unstable += (free_unstable.empty() ? "" : " ") + what;
+      else if (g.contacts == 0)
+        free_stable += (free_stable.empty() ? "'" : " '") + g.label + "'";
+    }
+    std::string c;
+    if (m_unstable.empty() && m_nonsmooth_dt > 0)
+      c = "non-smooth at every state at dt = " + format_double(m_nonsmooth_dt) + " s";
+    else if (m_unstable.empty())
+      c = "no growth past the tolerance up to --dt-max = " + format_double(m_o.dt_max) +
+          " s: growth_stable_dt is a lower bound";
+    else if (!contact_unstable.empty() && free_unstable.empty() && !free_stable.empty())
+      c = "set by contact: the state in contact grows (" + contact_unstable +
+          "); the free states (" + free_stable + ") do not";
+    else
+      c = "free: grows at " + free_unstable +
+          (contact_unstable.empty() ? "" : "; and in contact: " + contact_unstable);
+    if (!nonsmooth.empty()) c += "; non-smooth: " + nonsmooth;
+    return c;
+  }
+
+  const Scenario& m_sc;
+  const EngineSpec& m_e;
+  cloth::Model m_model;
+  const std::vector<GrowthState>& m_states;
+  GrowthSearchOptions m_o;
+  GrowthLimit m_limit;
+  std::vector<StateGrowth> m_last, m_unstable;
+  double m_nonsmooth_dt = 0;
+};
+
+}  // namespace
+
+std::vector<StateGrowth> judge_growth(const Scenario& sc, const EngineSpec& engine,
+                                      const cloth::Model& model,
+                                      const std::vector<GrowthState>& states, double dt,
+                                      const GrowthSearchOptions& o, long long* steps) {
+  std::vector<StateGrowth> out;
+  for (const GrowthState& s : states)
+    out.push_back(judge_state(sc, engine, model, s, dt, o, steps));
+  return out;
+}
+
+GrowthLimit search_growth_limit(const Scenario& sc, const EngineSpec& engine,
+                                const std::vector<GrowthState>& states, double dt_start,
+                                const GrowthSearchOptions& o) {
+  GrowthSearch search(sc, engine, states, o);
+  search.bracket(dt_start);
+  search.bisect();
+  return search.finish();
+}
+
+std::array<double, 3> mode_energy_by_kind(const cloth::Model& model, const cloth::Matrix3X& x,
+                                          const cloth::Matrix3X& u) {
+  std::array<double, 3> e{0, 0, 0};
+  cloth::for_each_spring(model.springs, [&](int p, int q, size_t g, int s) {
+    const cloth::Vector3 d = (x.col(q) - x.col(p)).normalized();
+    const double stretch = d.dot(u.col(q) - u.col(p));
+    e[static_cast<size_t>(model.springs.kind(g, s))] +=
+        0.5 * model.springs.stiffness(g, s) * stretch * stretch;
+  });
+  const double sum = e[0] + e[1] + e[2];
+  for (double& v : e) v = sum > 0 ? v / sum : std::numeric_limits<double>::quiet_NaN();
+  return e;
+}
+
+}  // namespace clothbench

@@ -1,0 +1,94 @@
+#pragma once
+/// @file growth_search.hpp
+/// The stability limit of one engine configuration measured by the growth of perturbations
+/// (`clothbench stability --method growth`), without waiting for a blow-up.
+///
+/// At each time step dt tried and at each reference state (growth_states.hpp) the growth rate
+/// of the one-step map, sigma(dt) = ln(rho) / dt with rho its largest amplification
+/// (cloth::estimate_growth), is compared with the physical rate of the same state: the same
+/// rate measured over the same time in eight steps of dt / 8 (a swinging or buckling cloth
+/// grows too, at a rate that does not depend on dt). dt is unstable when at some state
+///   sigma(dt) - max(physical rate, 0) > growth_tol.
+/// A state at which nothing grows faster than growth_tol (sigma(dt) <= growth_tol) is stable
+/// there without the physical rate being measured. A state whose map is not differentiable
+/// (a contact switching under the perturbation) gives no number and no verdict; when every
+/// state is so the search ends there. The limit is bracketed from a starting dt by doubling
+/// or halving, then bisected on a log scale: the criterion is not smooth at the limit (a
+/// square-root branch for symplectic Euler), so nothing faster than bisection is assumed.
+
+#include <array>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "cloth/analysis/growth_rate.hpp"
+#include "cloth/model/integrator.hpp"
+#include "cloth/model/model.hpp"
+#include "harness/scenario/scenario.hpp"
+#include "harness/sweeps/growth_states.hpp"
+
+namespace clothbench {
+
+/// Default growth tolerance (1/s): a perturbation may grow at most tenfold per second faster
+/// than the physical growth of the state (docs/stability.md says why).
+inline const double kDefaultGrowthTol = 2.302585092994046;  // ln 10
+
+/// Options of one growth search.
+struct GrowthSearchOptions {
+  double perturbation = 1e-7;             // relative finite-difference size
+  double growth_tol = kDefaultGrowthTol;  // 1/s
+  double rel_tol = 0.02;                  // bisection until first_unstable / stable - 1 <= this
+  double dt_max = 0.1;                    // s, no dt above this is tried
+  int max_halvings = 10;                  // halvings below the start before giving up
+};
+
+/// The growth at one state and dt.
+struct StateGrowth {
+  std::string label;  // the reference state's label
+  int contacts = 0;   // the reference engine's collider contacts at that state
+  bool smooth = true;
+  std::string nonsmooth_reason;
+  double rate = std::numeric_limits<double>::quiet_NaN();           // 1/s, sigma(dt)
+  double physical_rate = std::numeric_limits<double>::quiet_NaN();  // 1/s, at dt / 8 (NaN: not
+                                                                    // needed)
+  bool unstable = false;
+  cloth::GrowthEstimate estimate;  // of the one-step map
+};
+
+/// What a growth search found.
+struct GrowthLimit {
+  double stable_dt = std::numeric_limits<double>::quiet_NaN();  // s, largest dt judged stable
+  double first_unstable_dt = std::numeric_limits<double>::infinity();  // s, smallest unstable
+  double growth_rate = std::numeric_limits<double>::quiet_NaN();       // 1/s, sigma at
+                                                                       // first_unstable_dt
+  double physical_rate = std::numeric_limits<double>::quiet_NaN();     // 1/s, of that state
+  std::string cause;     // where the growth is: contact or free states, non-smooth states
+  cloth::Matrix3X mode;  // 3 by #P growing mode at first_unstable_dt (empty: none)
+  std::array<double, 3> mode_energy{std::numeric_limits<double>::quiet_NaN(),
+                                    std::numeric_limits<double>::quiet_NaN(),
+                                    std::numeric_limits<double>::quiet_NaN()};
+  // the mode's linearised spring energy by kind (structural, shear, bend), as fractions
+  long long steps = 0;  // engine steps the search took (all maps, all states)
+  int judged = 0;       // time steps judged
+};
+
+/// Judges dt for one engine configuration at every state.
+std::vector<StateGrowth> judge_growth(const Scenario& sc, const EngineSpec& engine,
+                                      const cloth::Model& model,
+                                      const std::vector<GrowthState>& states, double dt,
+                                      const GrowthSearchOptions& o, long long* steps);
+
+/// Searches the limit of engine (its integrator set) from dt_start. Throws Interrupted when
+/// asked to stop, std::invalid_argument for a perturbation below cloth::kMinPerturbation.
+GrowthLimit search_growth_limit(const Scenario& sc, const EngineSpec& engine,
+                                const std::vector<GrowthState>& states, double dt_start,
+                                const GrowthSearchOptions& o);
+
+/// The linearised spring energy of a mode u (3 by #P) at positions x, by spring kind
+/// (structural, shear, bend), as fractions of their sum: 1/2 k (d . (u_a - u_b))^2 per spring,
+/// d its unit direction at x. NaN when the sum is 0.
+std::array<double, 3> mode_energy_by_kind(const cloth::Model& model, const cloth::Matrix3X& x,
+                                          const cloth::Matrix3X& u);
+
+}  // namespace clothbench

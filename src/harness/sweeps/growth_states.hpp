@@ -1,0 +1,40 @@
+#pragma once
+/// @file growth_states.hpp
+/// The states a growth measurement starts from: a handful of states of one reference
+/// trajectory, computed once at a small step and over a fixed window of time, so that they
+/// are the same whatever the scenario's duration.
+///
+/// The reference is the custom engine with rk4 at a quarter of the smallest dt among the
+/// scenario's engines, over kGrowthWindow seconds (or until its state stops being finite).
+/// The states: the start; the fastest-moving state (largest kinetic energy); and, when any
+/// state of the window has the cloth on a collider, the one with the most collider contacts.
+
+#include <string>
+#include <vector>
+
+#include "cloth/analysis/growth_rate.hpp"
+#include "harness/scenario/scenario.hpp"
+
+namespace clothbench {
+
+/// Length of the reference trajectory (s), whatever the scenario's duration.
+constexpr double kGrowthWindow = 1.0;
+
+/// Steps of the reference trajectory at most; a smaller dt is raised to keep to it.
+constexpr long long kGrowthReferenceSteps = 200000;
+
+/// One state the growth is measured at.
+struct GrowthState {
+  std::string label;      // "start", "fastest" or "contact"
+  cloth::MapState state;  // positions, velocities and time
+  int contacts = 0;       // particle-collider contacts of the reference engine there
+};
+
+/// The reference states of scenario sc (see the file comment), distinct states only (a
+/// fastest state at t = 0 is the start).
+std::vector<GrowthState> growth_states(const Scenario& sc);
+
+/// The time step of the reference trajectory (s).
+double growth_reference_dt(const Scenario& sc);
+
+}  // namespace clothbench

@@ -1,0 +1,196 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "cloth/analysis/linear_stability.hpp"
+#include "cloth/model/model.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/scenario/scenario_loader.hpp"
+#include "harness/sweeps/growth_search.hpp"
+#include "harness/sweeps/growth_states.hpp"
+#include "harness/sweeps/stability_sweep.hpp"
+#include "temp_dir.hpp"
+#include "tolerances.hpp"
+
+using namespace clothbench;
+namespace fs = std::filesystem;
+
+namespace {
+
+// a small cloth on its four corners, every spring kind alike (damping proportional to
+// stiffness: the linear prediction is exact), no contact
+const char* kFree = R"(
+name = "growth_free"
+duration = 1.0
+frame_interval = 0.01
+reference = "custom"
+[cloth]
+particles = [6, 6]
+size = [0.5, 0.5]
+center = [0.0, 1.0, 0.0]
+particle_mass = 0.01
+stiffness = { structural = 100.0, shear = 100.0, bend = 100.0 }
+damping = 0.3
+[[constraint]]
+select = "corners"
+hold = "xyz"
+[[engine]]
+name = "custom"
+integrator = "rk4"
+dt = 1e-4
+)";
+
+// the seed scene made small: a cloth on its corners falling onto a sphere
+const char* kContact = R"(
+name = "growth_contact"
+duration = 1.0
+frame_interval = 0.01
+reference = "custom"
+gravity = [0.0, -9.8, 0.0]
+[cloth]
+particles = [9, 9]
+size = [4.0, 4.0]
+center = [0.0, 1.0, 0.0]
+particle_mass = 1.0
+stiffness = { structural = 20000.0, shear = 20000.0, bend = 20000.0 }
+damping = 750.0
+[[constraint]]
+select = "corners"
+hold = "xyz"
+[[sphere]]
+center = [0.0, 0.0, 0.0]
+radius = 1.0
+margin = 0.01
+[[engine]]
+name = "custom"
+integrator = "rk4"
+dt = 1e-3
+)";
+
+StabilityOptions growth_options(const std::string& out) {
+  StabilityOptions o;
+  o.out_dir = out;
+  o.engines = {"custom"};
+  o.progress = false;
+  o.jobs = 2;
+  o.method = StabilityMethod::growth;
+  return o;
+}
+
+std::string read_file(const fs::path& p) {
+  std::ifstream in(p);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("growth limits meet the linear prediction on a scene without contact",
+          "[stability][growth]") {
+  const cloth::Integrator integrator =
+      GENERATE(cloth::Integrator::explicit_euler, cloth::Integrator::symplectic_euler,
+               cloth::Integrator::midpoint, cloth::Integrator::rk4);
+  test::TempDir dir("growth-free");
+  const Scenario sc = parse_scenario(kFree, "free.toml", {});
+  StabilityOptions o = growth_options(dir.str());
+  o.integrators = {integrator};
+  const std::vector<StabilityRow> rows = run_stability(sc, o);
+  REQUIRE(rows.size() == 1);
+  const StabilityRow& r = rows[0];
+  INFO(cloth::integrator_name(integrator)
+       << ": growth " << r.growth.stable_dt << " .. " << r.growth.first_unstable_dt
+       << ", predicted " << r.predicted_dt << "; " << r.growth.cause);
+  REQUIRE(std::isfinite(r.growth.stable_dt));
+  REQUIRE(std::isfinite(r.growth.first_unstable_dt));
+  CHECK(std::abs(r.growth.stable_dt / r.predicted_dt - 1) <= tol::kGrowthLimitGoal);
+  CHECK(r.growth.cause.rfind("free", 0) == 0);
+  // the growing mode is written, and its spring energy is split into fractions
+  CHECK(fs::exists(dir.path / "stability_modes" / "0.npy"));
+  CHECK(fs::exists(dir.path / "stability_modes" / "rest.npy"));
+  const double sum = r.growth.mode_energy[0] + r.growth.mode_energy[1] + r.growth.mode_energy[2];
+  CHECK(sum == Approx(1.0).epsilon(1e-12));
+}
+
+TEST_CASE("the growth limit does not depend on the scenario's duration", "[stability][growth]") {
+  test::TempDir a("growth-short"), b("growth-long");
+  StabilityOptions o = growth_options(a.str());
+  o.integrators = {cloth::Integrator::symplectic_euler};
+  const StabilityRow short_run =
+      run_stability(parse_scenario(kFree, "f.toml", {"duration=0.5"}), o)[0];
+  o.out_dir = b.str();
+  const StabilityRow long_run =
+      run_stability(parse_scenario(kFree, "f.toml", {"duration=4"}), o)[0];
+  // the reference states come from a fixed window: the same numbers to the last bit
+  CHECK(short_run.growth.stable_dt == long_run.growth.stable_dt);
+  CHECK(short_run.growth.first_unstable_dt == long_run.growth.first_unstable_dt);
+  CHECK(short_run.growth.steps == long_run.growth.steps);
+}
+
+TEST_CASE("a limit set by contact is labelled so", "[stability][growth]") {
+  // imex-euler treats the springs implicitly: far from the sphere it has no limit from them
+  // (its linear limit is the damping's), so what fails first is the state in contact
+  test::TempDir dir("growth-contact");
+  const Scenario sc = parse_scenario(kContact, "contact.toml", {});
+  const std::vector<GrowthState> states = growth_states(sc);
+  REQUIRE(states.size() == 3);
+  CHECK(states[0].label == "start");
+  CHECK(states[2].label == "contact");
+  CHECK(states[2].contacts > 0);
+  StabilityOptions o = growth_options(dir.str());
+  o.integrators = {cloth::Integrator::imex_euler};
+  const StabilityRow r = run_stability(sc, o)[0];
+  INFO(r.growth.cause << "; growth " << r.growth.stable_dt << ", predicted " << r.predicted_dt);
+  CHECK(r.growth.cause.rfind("set by contact", 0) == 0);
+  CHECK(r.growth.stable_dt < 0.5 * r.predicted_dt);
+}
+
+TEST_CASE("a perturbation below round-off is refused", "[stability][growth]") {
+  test::TempDir dir("growth-refused");
+  StabilityOptions o = growth_options(dir.str());
+  o.perturbation = 1e-13;
+  CHECK_THROWS_AS(run_stability(parse_scenario(kFree, "f.toml", {}), o), UserError);
+  CHECK_FALSE(fs::exists(dir.path / "stability.csv"));
+}
+
+TEST_CASE("the growth columns survive a resume", "[stability][growth]") {
+  test::TempDir dir("growth-resume");
+  const Scenario sc = parse_scenario(kFree, "f.toml", {});
+  StabilityOptions o = growth_options(dir.str());
+  o.integrators = {cloth::Integrator::rk4};
+  const StabilityRow first = run_stability(sc, o)[0];
+  const std::string csv = read_file(dir.path / "stability.csv");
+  o.resume = true;
+  const StabilityRow again = run_stability(sc, o)[0];
+  CHECK(again.resumed);
+  CHECK(again.growth.stable_dt == first.growth.stable_dt);
+  CHECK(again.growth.cause == first.growth.cause);
+  CHECK(again.growth.steps == first.growth.steps);
+  CHECK(read_file(dir.path / "stability.csv") == csv);
+  // another method is another sweep
+  o.method = StabilityMethod::both;
+  CHECK_THROWS_AS(run_stability(sc, o), UserError);
+}
+
+TEST_CASE("a mode's spring energy is split by spring kind", "[stability][growth]") {
+  const Scenario sc = parse_scenario(kFree, "f.toml", {});
+  const cloth::Model model = cloth::build_model(sc.scene);
+  // every particle moved alike: no spring stretches
+  cloth::Matrix3X u = cloth::Matrix3X::Zero(3, model.x0.cols());
+  u.row(0).setOnes();
+  CHECK(std::isnan(mode_energy_by_kind(model, model.x0, u)[0]));
+  // one interior particle moved along u (x): its two structural springs along x and its
+  // four shear springs stretch, its bend springs along x too; hand-computed weights: each
+  // structural and bend spring along x stretches by 1, each shear one by cos 45 degrees
+  u.setZero();
+  const int p = 2 * 6 + 2;  // (2, 2), interior with every spring kind on both sides
+  u(0, p) = 1;
+  const std::array<double, 3> e = mode_energy_by_kind(model, model.x0, u);
+  const double structural = 2 * 100.0, shear = 4 * 100.0 * 0.5, bend = 2 * 100.0;
+  const double sum = structural + shear + bend;
+  CHECK(e[0] == Approx(structural / sum).epsilon(1e-12));
+  CHECK(e[1] == Approx(shear / sum).epsilon(1e-12));
+  CHECK(e[2] == Approx(bend / sum).epsilon(1e-12));
+}
