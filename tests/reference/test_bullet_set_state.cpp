@@ -1,6 +1,7 @@
 // Simulator::set_state on the Bullet engines: a state taken from a run, set into a fresh engine
 // or back into the run's own engine, steps to the state the run stepped to, bit for bit (the
 // growth measurement's finite differences need the step map to be a function of the state).
+#include <algorithm>
 #include <catch2/catch.hpp>
 #include <cmath>
 #include <memory>
@@ -8,8 +9,8 @@
 #include <string>
 #include <vector>
 
+#include "cloth/model/model.hpp"
 #include "harness/engines/engine_factory.hpp"
-#include "test_scenes.hpp"
 
 using namespace cloth;
 using clothbench::EngineSpec;
