@@ -236,12 +236,30 @@ ColliderBodies::~ColliderBodies() {
   for (Body& b : m_bodies) m_world.removeRigidBody(b.body.get());
 }
 
+btTransform ColliderBodies::pose_at(const Body& b, double t) {
+  btTransform pose = b.start;
+  pose.setOrigin(b.start.getOrigin() + to_bt(b.motion.displacement(t)));
+  return pose;
+}
+
 void ColliderBodies::move_to(double t) {
+  for (Body& b : m_bodies)
+    if (b.motion.moves()) b.state->setWorldTransform(pose_at(b, t));
+}
+
+void ColliderBodies::place_at(double t) {
+  const btVector3 zero(0, 0, 0);
   for (Body& b : m_bodies) {
     if (!b.motion.moves()) continue;
-    btTransform pose = b.start;
-    pose.setOrigin(b.start.getOrigin() + to_bt(b.motion.displacement(t)));
+    // the pose of the last step is the one the next step's velocity is measured from
+    const btTransform pose = pose_at(b, t);
     b.state->setWorldTransform(pose);
+    b.body->setWorldTransform(pose);
+    b.body->setInterpolationWorldTransform(pose);
+    b.body->setLinearVelocity(zero);
+    b.body->setAngularVelocity(zero);
+    b.body->setInterpolationLinearVelocity(zero);
+    b.body->setInterpolationAngularVelocity(zero);
   }
 }
 
@@ -292,6 +310,43 @@ void BulletCloth::step(double dt) {
   m_energy = e;
   m_t += dt;
   ++m_counters.steps;
+}
+
+void BulletCloth::set_state(const cloth::Matrix3X& x, const cloth::Matrix3X& v, double t) {
+  const int n = m_model.particle_count();
+  if (x.rows() != 3 || x.cols() != n || v.rows() != 3 || v.cols() != n)
+    throw std::invalid_argument("set_state: x and v must be 3 by " + std::to_string(n) +
+                                ", got 3 by " + std::to_string(x.cols()) + " and 3 by " +
+                                std::to_string(v.cols()));
+  // a fresh engine's first step would take the rest lengths from the state: take them first
+  take_first_step_constants();
+  // the nodes as a step leaves them: previous positions and velocities equal to the current
+  const btVector3 zero(0, 0, 0);
+  for (int p = 0; p < n; ++p) {
+    btSoftBody::Node& node = m_body->m_nodes[p];
+    node.m_x = node.m_q = to_bt(x.col(p));
+    node.m_v = node.m_vn = to_bt(v.col(p));
+    node.m_f = zero;
+    node.m_splitv = zero;
+  }
+  // the body's box in the broadphase, and its face normals, from the new positions
+  m_body->updateBounds();
+  m_body->updateNormals();
+  reset_world(t);
+  // our copies; the books go on from the energy of the new state
+  m_x = x;
+  m_v = v;
+  m_t = t;
+  m_energy = cloth::compute_energies(m_model, m_x, m_v).total();
+}
+
+void BulletCloth::take_first_step_constants() {
+  if (!m_body->m_bUpdateRtCst) return;
+  // as btSoftBody::predictMotion and btDeformableBodySolver::predictDeformableMotion do
+  m_body->m_bUpdateRtCst = false;
+  m_body->updateConstants();
+  m_body->m_fdbvt.clear();
+  if (m_body->m_cfg.collisions & m_face_tree_flags) m_body->initializeFaceTree();
 }
 
 void BulletCloth::apply_air_drag(double dt) {

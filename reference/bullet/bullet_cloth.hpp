@@ -87,8 +87,17 @@ class ColliderBodies {
   /// Puts the kinematic bodies where they are at time t (s); Bullet takes their velocity
   /// from the change of pose over the next step.
   void move_to(double t);
+  /// Puts the kinematic bodies at their pose at time t (s) as the pose of the last step too
+  /// (motion state, world transform and the interpolation transform Bullet takes the next
+  /// step's velocity from, btRigidBody::saveKinematicState, btRigidBody.cpp:105-121), with zero
+  /// velocity until that step recomputes it: the next step then moves them as if a run had
+  /// arrived at t.
+  void place_at(double t);
 
  private:
+  struct Body;
+  /// The pose of b at time t (s).
+  static btTransform pose_at(const Body& b, double t);
   /// Adds one body of shape with the pose (origin at t = 0, rotation) and motion of c.
   void add(std::unique_ptr<btCollisionShape> shape, const cloth::Collider& c,
            const cloth::Vector3& origin, const btQuaternion& rotation);
@@ -161,6 +170,27 @@ class BulletCloth : public cloth::Simulator {
   /// whose balance is 0 by construction.
   double unbooked() const override { return m_unbooked; }
   cloth::Counters counters() const override { return m_counters; }
+  /// True: both Bullet engines can be put into a state.
+  bool can_set_state() const override { return true; }
+  /// Writes the state into every node as a step of this adapter leaves it: m_x = m_q = x,
+  /// m_v = m_vn = v (a step ends with m_q = m_x and m_vn = m_v, btDeformableBodySolver.cpp:
+  /// 535-537, and the classic step overwrites m_q before it reads it, btSoftBody.cpp:2128),
+  /// m_f = m_splitv = 0 (zeroed at the end of a classic step, btSoftBody.cpp:2270, and at the
+  /// start of a deformable one, btDeformableBodySolver.cpp:470), the body's bounds and
+  /// broadphase box from the new positions, and the moving colliders placed at t
+  /// (reset_world). An engine that has not stepped yet first takes the constants its first
+  /// step would take from the nodes (take_first_step_constants): left to that step, they would
+  /// be taken from x, and every link's rest length would become its length in x (measured: a
+  /// fresh engine set to a run's state then stepped 3 steps to states 2e-4 to 1e-3 off the
+  /// run's). Our copies of the state, the time and the energy the books start from
+  /// follow; the books themselves are kept. Held axes and handle nodes take x and v as given
+  /// (the next step projects them as usual). What Bullet keeps between steps that this does not
+  /// set, and what it means for the step map, is written at make_bullet_softbody and
+  /// make_bullet_deformable. Throws std::invalid_argument when x or v is not 3 by #P.
+  /// @param x  3 by #P positions (m)
+  /// @param v  3 by #P velocities (m/s)
+  /// @param t  simulated time (s)
+  void set_state(const cloth::Matrix3X& x, const cloth::Matrix3X& v, double t) override;
 
  protected:
   BulletCloth(const cloth::Scene& scene, Dissipation book);
@@ -169,8 +199,15 @@ class BulletCloth : public cloth::Simulator {
   virtual void advance(double dt) = 0;
   /// True when Bullet's last step had a contact between the cloth and a rigid body.
   virtual bool had_contact() const = 0;
+  /// Puts the engine's world (its moving colliders) at time t (s), as a run arriving there
+  /// leaves it (set_state).
+  virtual void reset_world(double t) = 0;
   /// The soft body holding the cloth (set by the derived constructor).
   btSoftBody* m_body = nullptr;
+  /// The collision flags for which Bullet's first step builds the body's face tree (the
+  /// classic step: VF_SS, btSoftBody.cpp:2109; the deformable one: SDF_RD,
+  /// btDeformableBodySolver.cpp:433), set by the derived constructor.
+  int m_face_tree_flags = 0;
   cloth::Model m_model;
 
  private:
@@ -180,6 +217,13 @@ class BulletCloth : public cloth::Simulator {
   /// Restores held coordinates to their initial values and zeroes held velocity components
   /// on the nodes (m_x, m_q, m_v and m_vn, so the next step starts from the projected state).
   void project_held_axes();
+  /// Does now what Bullet's first step would do on its own, when no step has been
+  /// taken: the runtime constants from the nodes where they are (the start positions), which
+  /// resets every link's rest length to its current length (btSoftBody::updateConstants,
+  /// btSoftBody.cpp:3154-3159), and the face tree. A run's links therefore have the rest
+  /// lengths of start_positions(), not of the model's rest positions, where a particle starts
+  /// inside a contact shell (as before set_state existed; not changed here).
+  void take_first_step_constants();
   /// Gives the handle nodes the velocity that takes them along their path over the next step.
   void start_handles(double dt);
   /// Puts the handle nodes exactly on their path at time t (s).

@@ -50,6 +50,7 @@ class BulletDeformableCloth final : public BulletCloth {
     m_body->m_cfg.drag = 0.0;
     set_contact_config(*m_body, scene);
     if (scene.cloth.self_collision) turn_on_self_collision(o, scene);
+    m_face_tree_flags = btSoftBody::fCollision::SDF_RD;
     m_world->addSoftBody(m_body);
 
     // forces: the report's springs (damping along the spring) and gravity, which the world's
@@ -81,6 +82,7 @@ class BulletDeformableCloth final : public BulletCloth {
     return m_body->m_nodeRigidContacts.size() > 0 || m_body->m_faceRigidContacts.size() > 0 ||
            m_body->m_faceNodeContacts.size() > 0;
   }
+  void reset_world(double t) override { m_spheres->place_at(t); }
 
   /// Bullet's vertex-face self-collision (see make_bullet_deformable).
   void turn_on_self_collision(const BulletOptions& o, const cloth::Scene& scene) {

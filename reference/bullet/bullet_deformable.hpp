@@ -86,6 +86,38 @@ double self_collision_margin(const BulletOptions& options, const cloth::Scene& s
 /// two runs end 1.5e-12 m apart after 3 s. The implicit scheme does not feed the split velocity
 /// to its solve and was not affected.
 ///
+/// set_state (BulletCloth::set_state) makes the next step a function of (x, v, t, dt) with
+/// self-collision off: a fresh engine set to a run's state steps to the run's next state bit
+/// for bit, explicit and implicit, with and without contact against a moving sphere
+/// (tests/reference/test_bullet_set_state.cpp). What Bullet 3.24 keeps between steps:
+/// - Read from the last step, hence set: m_q, the positions the explicit scheme's spring force
+///   is evaluated at (btDeformableMassSpringForce.h:109) before the step sets it, left equal to
+///   m_x by the last step (btDeformableBodySolver.cpp:535-537); m_vn, the implicit scheme's
+///   v_n (btDeformableBodySolver.cpp:349-350), left equal to m_v; a kinematic collider's
+///   previous pose, from which Bullet takes its velocity (btRigidBody.cpp:105-121) and at which
+///   it predicts contacts (btSoftBody.cpp:2787): ColliderBodies::place_at.
+/// - Rebuilt every step, hence no history: the backup velocities, the solve's dv, ddv and
+///   residual (zeroed in reinitialize, btDeformableBodySolver.cpp:236-241; backupVelocity at
+///   the start of solveConstraints, :317-328), so there is no warm start: the explicit CG
+///   starts from this step's contact dv (setupDeformableSolve, :330-360), the Newton step from
+///   0; the contacts (cleared in predictMotion, :411-415), the constraints and Lagrange
+///   multipliers (btDeformableContactProjection.cpp:625-638); split velocities and constrained
+///   flags (btDeformableBodySolver.cpp:470-471); the node and face trees' boxes, refitted from
+///   the nodes (:475-479, btSoftBody.h:1257-1306) on a topology fixed by the connectivity alone
+///   (node insertion order, face tree btSoftBody.cpp:29-124), so contacts come in the same
+///   order.
+/// - Kept but not read by the step: m_maxSpeedSquared, the world's m_internalTime (read only
+///   by solver callbacks, none here), sleeping state (the body never sleeps).
+/// - Not settable, with self-collision on: the repulsion impulses are applied in an order
+///   shuffled by a generator whose seed is a file-static variable of btSoftBody.h (:39,
+///   advanced at :1325-1331), never reset and not reachable from here. With self-contacts the
+///   step is therefore not a function of the state: the same state steps to states that differ
+///   by the order of those impulses (unmeasured). Without self-contacts the shuffle draws
+///   nothing.
+/// - Not a function of the state either: a node touching two colliders at once, whose
+///   contacts are solved in turn in the order of the broadphase's pair list, which is history
+///   (unmeasured; none of the test scenes has it).
+///
 /// Throws std::invalid_argument with deformable_refusal's reason for a scene it cannot model
 /// (the scenario loader refuses those first, so that is a programmer error).
 std::unique_ptr<cloth::Simulator> make_bullet_deformable(const BulletOptions& options,

@@ -52,6 +52,7 @@ class BulletSoftBodyCloth final : public BulletCloth {
     cfg.collisions = btSoftBody::fCollision::SDF_RS;
     add_self_flags(flags);
     set_contact_config(*m_body, scene);
+    m_face_tree_flags = btSoftBody::fCollision::VF_SS;
     m_world->addSoftBody(m_body);
 
     m_spheres = std::make_unique<ColliderBodies>(*m_world, scene);
@@ -100,6 +101,7 @@ class BulletSoftBodyCloth final : public BulletCloth {
     step_world(*m_world, m_world->getWorldInfo(), *m_spheres, time(), dt);
   }
   bool had_contact() const override { return m_body->m_rcontacts.size() > 0; }
+  void reset_world(double t) override { m_spheres->place_at(t); }
 
   BulletOptions m_options;
   double m_dt;

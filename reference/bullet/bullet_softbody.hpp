@@ -28,8 +28,35 @@ std::optional<Refusal> softbody_refusal(const BulletOptions& options, double dt,
 /// isolated-link formula ignores. The scene's spring damping has no counterpart here (kDP = 0: the
 /// projection itself dissipates), so dissipated() books the energy balance of every step
 /// (Dissipation::energy_balance): what the projection, the contacts and the air drag took out.
-/// Its energy_error is therefore 0 by construction and not a measure of anything. Throws
-/// std::invalid_argument with softbody_refusal's reason for a scene it cannot model (the
+/// Its energy_error is therefore 0 by construction and not a measure of anything.
+///
+/// set_state (BulletCloth::set_state) makes the next step a function of (x, v, t, dt): a fresh
+/// engine set to a run's state steps to the run's next state bit for bit, with and without
+/// contact against a moving sphere (tests/reference/test_bullet_set_state.cpp). What Bullet 3.24
+/// keeps between steps, and why none of it is state the map depends on here:
+/// - m_q (the previous positions, from which the step takes the velocity, btSoftBody.cpp:2269)
+///   is overwritten with m_x before anything reads it (predictMotion, btSoftBody.cpp:2128);
+///   m_f is zeroed at the end of every step (:2270) and the rigid contacts are rebuilt
+///   (cleared at :2199).
+/// - The node tree's leaves are fattened by the node velocities and only re-inserted when a
+///   node leaves its leaf (btSoftBody.cpp:2156-2164), and the tree is rebalanced every step
+///   (:2202): its shape is history. The contact query visits every node whose leaf touches the
+///   collider's box grown by the margin (SDF_RS, btSoftBody.cpp:4080-4104), a superset of the
+///   nodes in contact that the exact SDF test then filters, so the contacts are the state's;
+///   only their order in m_rcontacts is history. That order cannot matter against one
+///   collider: PSolve_RContacts (btSoftBody.cpp:3885) moves only each contact's own node, and
+///   a static or kinematic collider takes no impulse. Not a function of the state: a node
+///   touching two colliders at once, corrected once per contact in an order set by the node
+///   tree and the broadphase's pair list (unmeasured; none of the test scenes has it).
+/// - A kinematic collider's velocity in the contacts (btSoftBodyInternals.h:1630,
+///   btSoftBody.cpp:3905) comes from its previous pose (btRigidBody.cpp:105-121): set_state
+///   places that pose at t (ColliderBodies::place_at).
+/// - The sparse SDF caches cells computed from the shape alone (btSparseSDF.h BuildCell) and
+///   drops old ones; a cell rebuilt later holds the same values.
+/// - Clusters, pose matching, aerodynamics, pressure and volume are off (kMT = kLF = kDG =
+///   kPR = kVC = 0), and the body never sleeps.
+///
+/// Throws std::invalid_argument with softbody_refusal's reason for a scene it cannot model (the
 /// scenario loader refuses those first, so that is a programmer error).
 /// @param dt  the step the engine will be run with (s), for "matched"
 std::unique_ptr<cloth::Simulator> make_bullet_softbody(const BulletOptions& options, double dt,
