@@ -33,6 +33,15 @@ class Schema:
         self.optional = set(optional)
 
 
+# the columns `clothbench stability --method growth|blowup|both` adds after the blow-up search's
+# (older folders lack them): which search ran, the growth limit (s), the growing mode's rate and
+# the physical one (1/s), growth limit / predicted, why, the mode's share of spring energy by
+# kind, and the engine steps each search took; a search that did not run leaves its own empty
+STABILITY_GROWTH_TEXT = ["method", "growth_cause"]
+STABILITY_GROWTH_NUMBERS = ["growth_stable_dt", "growth_first_unstable_dt", "growth_rate",
+                            "physical_rate", "growth_ratio", "mode_structural", "mode_shear",
+                            "mode_bend", "growth_steps", "blowup_steps"]
+
 SCHEMAS = {
     "frames.csv": Schema(
         ["engine", "t", "kinetic", "gravity_potential", "elastic_potential", "dissipated",
@@ -57,12 +66,14 @@ SCHEMAS = {
     "stability.csv": Schema(
         ["engine", "integrator", "stable_dt", "first_unstable_dt", "predicted_dt",
          "ratio_measured_to_predicted", "cause"],
-        text=["engine", "integrator", "cause"], keys=["engine"]),
+        text=["engine", "integrator", "cause"] + STABILITY_GROWTH_TEXT, keys=["engine"],
+        optional=STABILITY_GROWTH_NUMBERS),
     # clothbench map: the varied keys' columns come first and are kept as text
     "map.csv": Schema(
         ["engine", "integrator", "stable_dt", "first_unstable_dt", "predicted_dt",
          "ratio_measured_to_predicted", "cause"],
-        text=["engine", "integrator", "cause"], keys=["engine"]),
+        text=["engine", "integrator", "cause"] + STABILITY_GROWTH_TEXT, keys=["engine"],
+        optional=STABILITY_GROWTH_NUMBERS),
     "work_precision.csv": Schema(
         ["engine", "integrator", "dt", "stable", "error_final", "error_max", "wall_s",
          "wall_s_per_sim_s", "force_evals", "cg_iterations"],

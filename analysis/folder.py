@@ -27,6 +27,9 @@ class Folder:
     scenario  the resolved scenario (dict from scenario.toml) or {}
     scenario_text  scenario.toml as text, or ""
     run_info  run.json as a dict, or {}
+    modes     (rest, {row: mode}) from stability_modes/ (a growth stability sweep), else None:
+              rest 3 by #P rest positions (m), mode 3 by #P growing mode of stability.csv's
+              row (0-based) at its growth_first_unstable_dt
     """
 
     def __init__(self, path, label=None):
@@ -47,6 +50,7 @@ class Folder:
         self.scenario, self.scenario_text = _read_toml(os.path.join(path, "scenario.toml"))
         self.run_info = _read_json(os.path.join(path, "run.json"))
         self._check_consistency()
+        self.modes = self._read_modes()
 
     # --- what is there ---------------------------------------------------------------------
 
@@ -164,6 +168,29 @@ class Folder:
             nu, nv = max(nu, int(particles[0])), max(nv, int(particles[1]))
         return nu, nv
 
+    # --- growing modes of a stability sweep --------------------------------------------------
+
+    def _read_modes(self):
+        """(rest, {row: mode}) of stability_modes/, None without it (an older folder). Every
+        file is read and checked here, so a corrupt one stops the report before any plot."""
+        folder = os.path.join(self.path, "stability_modes")
+        if not os.path.isdir(folder) or "stability.csv" not in self.tables:
+            return None
+        names = sorted(n for n in os.listdir(folder) if n.endswith(".npy"))
+        rows = sorted(int(n[:-4]) for n in names if n[:-4].isdigit())
+        if not rows:
+            return None
+        rest = _read_npy(os.path.join(folder, "rest.npy"), None)
+        table = self.tables["stability.csv"]
+        modes = {}
+        for row in rows:
+            file = os.path.join(folder, f"{row}.npy")
+            if row >= len(table):
+                raise ReportError(f"{file}: stability.csv has no row {row} (it has "
+                                  f"{len(table)} rows, counted from 0)")
+            modes[row] = _read_npy(file, rest.shape[1])
+        return rest, modes
+
     # --- checks ------------------------------------------------------------------------------
 
     def _check_consistency(self):
@@ -181,6 +208,28 @@ class Folder:
                 t = self.tables[name]["t"]
                 if np.any(~np.isfinite(t)):
                     raise ReportError(f"{self.tables[name].path}: column 't' has a non-finite time")
+
+
+def _read_npy(path, particles):
+    """A 3 by #P float array from a .npy file (#P = particles unless None), finite throughout;
+    ReportError naming the file for anything else."""
+    if not os.path.exists(path):
+        raise ReportError(f"{path}: file not found (stability_modes/ holds growing modes, so "
+                          "it needs the rest positions too)")
+    try:
+        a = np.load(path, allow_pickle=False)
+    except (OSError, ValueError, EOFError) as e:
+        raise ReportError(f"{path}: not a readable .npy array: {' '.join(str(e).split())}") \
+            from None
+    if not isinstance(a, np.ndarray) or a.ndim != 2 or a.shape[0] != 3 or a.shape[1] == 0 \
+            or a.dtype.kind not in "fiu":
+        raise ReportError(f"{path}: expected a 3 by #P array of numbers, found shape "
+                          f"{getattr(a, 'shape', '?')} of {getattr(a, 'dtype', '?')}")
+    if particles is not None and a.shape[1] != particles:
+        raise ReportError(f"{path}: {a.shape[1]} particles, but rest.npy has {particles}")
+    if not np.all(np.isfinite(a)):
+        raise ReportError(f"{path}: holds a non-finite value")
+    return a.astype(float)
 
 
 def _read_obj_faces(path):

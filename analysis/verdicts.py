@@ -308,11 +308,69 @@ def best_error(f, rec_row):
             f"{_key(wp['engine'][k], wp['integrator'][k])} at dt {num(float(wp['dt'][k]))} s")
 
 
+def growth_setting(cause):
+    """What sets a growth limit, from growth_cause: "contact", "free", "none" (nothing grew
+    past the tolerance) or "" (not said); with " (non-smooth)" when the cause says so."""
+    cause = str(cause)
+    what = ("contact" if cause.startswith("set by contact") else
+            "free" if cause.startswith("free") else
+            "none" if cause.startswith("no growth") else "")
+    return what + (" (non-smooth)" if "non-smooth" in cause else "")
+
+
+def _growth_text(r):
+    """'; growth limit ... s (...), growth / predicted ..., set by ...' of a stability.csv row
+    measured by growth, or '' (an older folder, or --method blowup)."""
+    if not _finite(r.get("growth_stable_dt")) and not _finite(r.get("growth_first_unstable_dt")):
+        return ""
+    if not _finite(r["growth_stable_dt"]):
+        text = (f"; growth limit: a mode grows too fast already at "
+                f"{num(r['growth_first_unstable_dt'])} s")
+    else:
+        text = f"; growth limit {num(r['growth_stable_dt'])} s"
+        if _finite(r["growth_first_unstable_dt"]):
+            rates = ""
+            if _finite(r.get("growth_rate")) and _finite(r.get("physical_rate")):
+                rates = (f": growth {num(r['growth_rate'])}/s against "
+                         f"{num(r['physical_rate'])}/s physical")
+            text += f" (first growing at {num(r['growth_first_unstable_dt'])} s{rates})"
+        else:
+            text += " (nothing grew up to the largest step tried, so at least that)"
+    ratio = r.get("growth_ratio", math.nan)
+    if not _finite(ratio) and _finite(r["growth_stable_dt"]) and _finite(r["predicted_dt"]) \
+            and r["predicted_dt"] > 0:
+        ratio = r["growth_stable_dt"] / r["predicted_dt"]
+    if _finite(ratio):
+        text += f", growth limit / predicted {ratio:.2f}"
+    setting = growth_setting(r.get("growth_cause", ""))
+    text += {"contact": ", set by contact (the prediction is for the free scene)",
+             "free": ", set by the free cloth",
+             "none": ", no growth past the tolerance"}.get(setting.split(" ")[0], "")
+    if "non-smooth" in setting:
+        text += " (non-smooth: the estimate crosses a contact switch)"
+    return text
+
+
+def _growth_only_line(r, key):
+    """The line of a --method growth row: its blow-up columns are empty by design."""
+    text = f"{key}: measured by growth only" + _growth_text(r)
+    if not _finite(r["growth_stable_dt"]):
+        return ("bad", text + ".")
+    if growth_setting(r["growth_cause"]).startswith("contact"):
+        return ("info", text + ".")
+    censored = not _finite(r["growth_first_unstable_dt"])
+    kind, more = stability_agreement(r["growth_stable_dt"], r["predicted_dt"],
+                                     r["growth_ratio"], censored)
+    return (kind, text + more.replace("; predicted", "; against the prediction", 1) + ".")
+
+
 def _stability_limit_line(r):
     """The line of one stability.csv row."""
     key = _key(r["engine"], r["integrator"])
+    if r.get("method") == "growth":
+        return _growth_only_line(r, key)
     if not _finite(r["stable_dt"]):
-        return ("bad", f"{key}: no stable time step found.")
+        return ("bad", f"{key}: no stable time step found{_growth_text(r)}.")
     text = f"{key}: largest stable dt {num(r['stable_dt'])} s"
     # a search that never failed stopped at --dt-max: the measured limit is a lower bound
     censored = not _finite(r["first_unstable_dt"])
@@ -323,7 +381,7 @@ def _stability_limit_line(r):
         text += f", {r['cause']})" if r["cause"] else ")"
     kind, more = stability_agreement(r["stable_dt"], r["predicted_dt"],
                                      r["ratio_measured_to_predicted"], censored)
-    return (kind, text + more + ".")
+    return (kind, text + more + _growth_text(r) + ".")
 
 
 def _convergence_line(f, r):

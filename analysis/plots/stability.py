@@ -14,7 +14,12 @@ CAPTION = ("Largest stable time step per engine and integrator. Top: measured (c
            "largest step tried, so the measured step is a lower bound. An integrator that is "
            "unconditionally stable in linear theory (predicted dt infinite) is labelled so. "
            "Bottom: measured / predicted, with the ±10 % band shaded; an upward arrow marks a "
-           "lower bound.")
+           "lower bound. Where the sweep also measured by growth (--method growth or both), the "
+           "square is the largest dt at which no small disturbance grows faster than the "
+           "physics lets it (the green triangle above it: the first dt where one does), "
+           "labelled 'contact' when a state in contact sets it; its ratio to the prediction is "
+           "the square in the bottom panel. The prediction holds for the free scene, so a "
+           "limit set by contact may lie below it.")
 
 GOAL = STABILITY_GOAL  # relative agreement asked for on scenes without contact (the ±10 % band)
 
@@ -104,27 +109,99 @@ def _draw_ratio(ax_r, xr, ratio, censored, hollow, lab, ratios):
         ratios.append(ratio + 0.12)
 
 
+def has_growth(table):
+    """True when stability.csv holds a growth limit in some row (a sweep run with --method
+    growth or both; older folders have no such column)."""
+    return "growth_stable_dt" in table and bool(
+        np.any(np.isfinite(table["growth_stable_dt"])
+               | np.isfinite(table["growth_first_unstable_dt"])))
+
+
+def _blowup_ran(rows):
+    """False for a row of --method growth, whose blow-up columns are empty by design."""
+    return "method" not in rows or rows["method"][0] != "growth"
+
+
+def _draw_growth(ax, xg, row, hollow, lab, values):
+    """The growth limit (square), the first dt where a disturbance grows too fast above it
+    (triangle) or an arrow when none did, and 'contact' when a state in contact sets it."""
+    meas, fail = row["growth_stable_dt"], row["growth_first_unstable_dt"]
+    if not np.isfinite(meas):
+        if np.isfinite(fail):
+            ax.plot([xg], [fail], marker="^", ms=9, ls="none", color="tab:green",
+                    mfc="white" if hollow else "tab:green", mew=2,
+                    label=lab("growth: first dt with a growing mode"))
+            values.append(fail)
+        return
+    ax.plot([xg], [meas], marker="s", ms=9, ls="none", color="tab:cyan",
+            mfc="white" if hollow else "tab:cyan", mew=2, mec="teal",
+            label=lab("growth limit (no disturbance grows too fast)"))
+    values.append(meas)
+    if np.isfinite(fail):
+        ax.plot([xg, xg], [meas, fail], color="0.4", lw=1.2)
+        ax.plot([xg], [fail], marker="^", ms=9, ls="none", color="tab:green",
+                mfc="white" if hollow else "tab:green", mew=2,
+                label=lab("growth: first dt with a growing mode"))
+        values.append(fail)
+    else:
+        ax.annotate("", (xg, meas * 2.0), (xg, meas * 1.12),
+                    arrowprops={"arrowstyle": "-|>", "color": "teal", "lw": 1.6})
+        values.append(meas * 2.0)
+    if str(row["growth_cause"]).startswith("set by contact"):
+        ax.annotate("contact", (xg, meas), xytext=(0, -14), textcoords="offset points",
+                    ha="center", va="top", fontsize=style.FONT - 2, color="teal")
+
+
+def _draw_growth_ratio(ax_r, xr, row, pred, hollow, lab, ratios):
+    """growth limit / predicted in the lower panel (a lower bound when nothing grew)."""
+    ratio = row["growth_ratio"]
+    if not np.isfinite(ratio) and np.isfinite(row["growth_stable_dt"]):
+        ratio = row["growth_stable_dt"] / pred
+    if not np.isfinite(ratio):
+        return
+    censored = not np.isfinite(row["growth_first_unstable_dt"])
+    ax_r.plot([xr], [ratio], marker="s", ms=8, ls="none", color="tab:cyan", mec="teal",
+              mfc="white" if hollow else "tab:cyan", mew=2, label=lab("growth limit / predicted"))
+    ax_r.annotate(f"≥ {ratio:.2f}" if censored else f"{ratio:.2f}", (xr, ratio),
+                  xytext=(0, 8), textcoords="offset points", ha="center", va="baseline",
+                  fontsize=style.FONT - 1, color="teal")
+    ratios.append(ratio)
+
+
 def _draw_folder(axes, f, keys, base, step, hollow, lab, values, ratios):
-    """One folder's markers in every engine / integrator's slot."""
+    """One folder's markers in every engine / integrator's slot: blow-up limit, growth limit
+    (when measured) and prediction, side by side."""
     ax, ax_r = axes
     st = f.table("stability.csv")
+    growth = has_growth(st)
     for n, (e, i) in enumerate(keys):
         rows = st.where((st["engine"] == e) & (st["integrator"] == i))
         if not len(rows):
             continue
-        xm, xp = n + base, n + base + step
+        xm, xg = n + base, n + base + step
+        xp = n + base + (2 if growth else 1) * step
         meas, fail = rows["stable_dt"][0], rows["first_unstable_dt"][0]
         pred, ratio = rows["predicted_dt"][0], rows["ratio_measured_to_predicted"][0]
-        if not (np.isfinite(pred) and pred > 0):
+        finite_pred = bool(np.isfinite(pred) and pred > 0)
+        if not finite_pred:
             ratio = np.nan  # no finite prediction: nothing to compare with
         elif not np.isfinite(ratio) and np.isfinite(meas):
             ratio = meas / pred
         # no failure up to the largest step tried: measured dt and ratio are lower bounds
         censored = not np.isfinite(fail)
-        _draw_measured(ax, xm, meas, fail, hollow, lab, values)
-        _draw_predicted(ax, xp, pred, meas, hollow, lab, values)
+        if _blowup_ran(rows):
+            _draw_measured(ax, xm, meas, fail, hollow, lab, values)
+        row = next(rows.rows())
+        if growth:
+            _draw_growth(ax, xg, row, hollow, lab, values)
+        _draw_predicted(ax, xp, pred, meas if np.isfinite(meas) else row.get(
+            "growth_stable_dt", meas), hollow, lab, values)
         if np.isfinite(ratio):
-            _draw_ratio(ax_r, n + base + step / 2, ratio, censored, hollow, lab, ratios)
+            # between its two markers, or under the blow-up one when the growth one is beside
+            _draw_ratio(ax_r, xm if growth else xm + step / 2, ratio, censored, hollow, lab,
+                        ratios)
+        if growth and finite_pred:
+            _draw_growth_ratio(ax_r, xg, row, pred, hollow, lab, ratios)
 
 
 def _finish_axes(ax, ax_r, keys, panels, values, ratios):
@@ -152,11 +229,13 @@ def draw(folders, ctx):
     keys = _keys(panels)
     fig, (ax, ax_r) = plt.subplots(2, 1, figsize=(12, 8.4), sharex=True, layout="constrained",
                                    gridspec_kw={"height_ratios": [2.6, 1]})
-    # horizontal slots inside each category: (measured, predicted) per folder
-    step = 0.22 if len(panels) == 1 else 0.16
+    # horizontal slots inside each category: (measured, growth, predicted) per folder, the
+    # growth slot only when some folder measured it
+    slots = 3 if any(has_growth(f.table("stability.csv")) for f in panels) else 2
+    step = 0.6 / (slots * len(panels)) if slots == 3 else (0.22 if len(panels) == 1 else 0.16)
     values, ratios = [], []
     for k, f in enumerate(panels):
-        base = -step / 2 if len(panels) == 1 else (-1.5 + 2 * k) * step
+        base = (-(slots * len(panels) - 1) / 2 + slots * k) * step
         lab = _labeller(f" ({f.label})" if len(panels) > 1 else "")
         _draw_folder((ax, ax_r), f, keys, base, step, k == 1, lab, values, ratios)
     _finish_axes(ax, ax_r, keys, panels, values, ratios)

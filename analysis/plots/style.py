@@ -123,6 +123,7 @@ COMPARE_LINES = {
     "panels": "{a} (left) vs {b} (right)",
     "markers": "{a} (filled markers) vs {b} (hollow markers)",
     "rows": "{a} and {b}: one row each per engine",
+    "labelled": "{a} and {b}: each panel's title names its folder",
 }
 
 

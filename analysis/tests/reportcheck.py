@@ -73,6 +73,13 @@ def expected_images(*folders):
             path = os.path.join(folder, name)
             if os.path.exists(path) and has_rows(path):
                 stems += [s for s in images if s not in stems]
+        # a stability sweep measured by growth that saved its growing modes draws them too
+        modes = os.path.join(folder, "stability_modes")
+        stability = os.path.join(folder, "stability.csv")
+        if os.path.isdir(modes) and os.path.exists(stability) and has_rows(stability) \
+                and any(n[:-4].isdigit() for n in os.listdir(modes) if n.endswith(".npy")) \
+                and "stability_mode" not in stems:
+            stems.append("stability_mode")
         # frames.csv written since self-intersection is measured has the self-contact plot too
         frames = os.path.join(folder, "frames.csv")
         if os.path.exists(frames) and has_rows(frames) and "self_contact" not in stems:
