@@ -65,7 +65,11 @@ struct GrowthEstimate {
 /// Estimates the growth of perturbations of state s under `steps` steps of dt of sim, whose
 /// free axes are free (3 by #P, 1 where the axis moves). sim is left in an unspecified state.
 /// Throws std::invalid_argument for a perturbation below kMinPerturbation, fewer than two
-/// vectors, steps < 1 or dt <= 0, and std::logic_error when sim cannot set its state.
+/// vectors, steps < 1, dt <= 0, no free axis or shapes that do not match, and
+/// std::logic_error when sim cannot set its state. A map that overflows (a state that is not
+/// finite after the steps) gives rho and rate infinite and converged false. Costs 1 + k
+/// (iterations + 1) products, k = min(vectors, 2 #free axes): the base map, k per iteration
+/// and k backward differences for the smoothness check.
 GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int steps,
                                const Matrix3X& free, const GrowthOptions& o = {});
 
