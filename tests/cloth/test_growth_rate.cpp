@@ -23,16 +23,8 @@ namespace {
 /// only: its state (x, v) obeys x'' = -w2 x - g x' with w2 = k / m and g = c / m exactly (the
 /// spring stays along x, so its force is linear in x).
 Scene one_spring(double m, double k, double c) {
-  Scene s;
-  s.cloth.nu = 2;
-  s.cloth.nv = 1;
-  s.cloth.size_u = 0.5;
-  s.cloth.particle_mass = m;
-  s.cloth.k_structural = k;
-  s.cloth.k_shear = s.cloth.k_bend = 0.0;
-  s.cloth.damping = c;
-  s.gravity.setZero();
-  s.held = {kHoldAll, kHoldY | kHoldZ};
+  Scene s = clothbench::test::one_spring(m, k, c);
+  s.held[1] = kHoldY | kHoldZ;
   return s;
 }
 
