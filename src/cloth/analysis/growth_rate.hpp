@@ -28,8 +28,8 @@ namespace cloth {
 
 /// A state of the step map.
 struct MapState {
-  Matrix3X x;  // 3 by #P positions (m)
-  Matrix3X v;  // 3 by #P velocities (m/s)
+  Matrix3X x;    // 3 by #P positions (m)
+  Matrix3X v;    // 3 by #P velocities (m/s)
   double t = 0;  // s
 };
 
@@ -39,10 +39,11 @@ constexpr double kMinPerturbation = 1e-12;
 
 /// Options of one growth estimate.
 struct GrowthOptions {
-  double perturbation = 1e-7;  // finite-difference size, relative to the state's scale
-  int vectors = 3;             // block size, at least 2 (complex pairs)
-  int max_iterations = 40;     // block iterations at most
-  double rel_tol = 1e-3;       // stop when rho changes by less than this, relatively
+  double perturbation = 1e-7;   // finite-difference size, relative to the state's scale
+  int vectors = 3;              // block size, at least 2 (complex pairs)
+  int max_iterations = 40;      // block iterations at most
+  double rel_tol = 1e-3;        // stop when rho changes by less than this, relatively, and
+                                // the dominant Ritz pair's relative residual is below its root
   double nonsmooth_tol = 0.05;  // forward and backward differences disagreeing by more than
                                 // this (relative) call the state non-smooth
 };
@@ -51,7 +52,7 @@ struct GrowthOptions {
 struct GrowthEstimate {
   double rho = std::numeric_limits<double>::quiet_NaN();   // largest |eigenvalue| of J
   double rate = std::numeric_limits<double>::quiet_NaN();  // 1/s, ln(rho) / (steps dt)
-  std::complex<double> eigenvalue;                          // the dominant eigenvalue of J
+  std::complex<double> eigenvalue;                         // the dominant eigenvalue of J
   bool smooth = true;            // false: the map is not differentiable at the state
   std::string nonsmooth_reason;  // why not, in words without commas (CSV)
   Matrix3X mode;                 // 3 by #P position part of the dominant mode (real part,
