@@ -27,6 +27,22 @@ inline cloth::Scene small_cloth(int n = 5, double k = 20.0, double damping = 0.5
   return s;
 }
 
+/// One free particle of mass m on a spring k (damper c) along x, 0.5 m long, to a pinned one
+/// (particle 0), no gravity.
+inline cloth::Scene one_spring(double m, double k, double c) {
+  cloth::Scene s;
+  s.cloth.nu = 2;
+  s.cloth.nv = 1;
+  s.cloth.size_u = 0.5;
+  s.cloth.particle_mass = m;
+  s.cloth.k_structural = k;
+  s.cloth.k_shear = s.cloth.k_bend = 0.0;
+  s.cloth.damping = c;
+  s.gravity.setZero();
+  s.held = {cloth::kHoldAll, 0};
+  return s;
+}
+
 /// A vertical chain of n free particles of mass m below a pinned one, springs k, spacing l.
 inline cloth::Scene chain(int n, double m, double k, double l, double damping, double g) {
   cloth::Scene s;

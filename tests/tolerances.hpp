@@ -92,4 +92,22 @@ constexpr double kStickDisplacement = 1e-9;  // m
 /// s_N = a h^2 N (N + 1) / 2 exactly; round-off of 500 steps (measured 1e-14) only.
 constexpr double kSlideAccelerationRelative = 1e-9;
 
+/// Growth of a map that is linear to round-off (one particle on a spring along its axis):
+/// forward differences of relative size 1e-7 carry round-off of about eps / 1e-7 ~ 2e-9 of
+/// the entries, and block iteration with as many vectors as the state has entries is
+/// Rayleigh-Ritz on the whole space, exact after one round; 1e-6 leaves a factor 500.
+constexpr double kGrowthLinearRelative = 1e-6;
+/// Growth rates of one map over 0.1 s at two step sizes and against the flow's sqrt(g / l):
+/// symplectic Euler's rate is sigma (1 - (h sigma)^2 / 24), 1e-5 1/s at h = 1 ms, rk4's far
+/// closer; the iteration stops when rho changes by 1e-6, about 1e-5 1/s in the rate. 1e-3
+/// 1/s (1.4e-4 of the rate) leaves a factor 50, and a step-size artefact would show as a
+/// change of order one.
+constexpr double kGrowthRateAcrossSteps = 1e-3;  // 1/s
+/// Measured growth at the rest state of the small grid against the linear predictor: the
+/// iteration stops when rho changes by less than 1e-6, so the error left is about that over
+/// 1 - r, r the ratio of the next modulus to the top one (0.92-0.95 on the grid by a dense
+/// Jacobian: rk4 1.0658 against 1.0100, symplectic Euler 1.0886 against 1.0), about 2e-5;
+/// the difference quotients add 1e-8. 1e-4 leaves a factor 5.
+constexpr double kGrowthVsPredictor = 1e-4;
+
 }  // namespace clothbench::tol

@@ -5,6 +5,7 @@
 #include "cloth/analysis/linear_stability.hpp"
 #include "cloth/integrators/mass_spring_cloth.hpp"
 #include "cloth/model/model.hpp"
+#include "test_scenes.hpp"
 #include "tolerances.hpp"
 
 using namespace cloth;
@@ -13,17 +14,7 @@ namespace {
 
 // one free particle of mass m on a spring k (damper c) to a pinned one
 Model two_particles(double m, double k, double c) {
-  Scene s;
-  s.cloth.nu = 2;
-  s.cloth.nv = 1;
-  s.cloth.size_u = 0.5;
-  s.cloth.particle_mass = m;
-  s.cloth.k_structural = k;
-  s.cloth.k_shear = s.cloth.k_bend = 0.0;
-  s.cloth.damping = c;
-  s.gravity.setZero();
-  s.held = {kHoldAll, 0};
-  return build_model(s);
+  return build_model(clothbench::test::one_spring(m, k, c));
 }
 
 }  // namespace

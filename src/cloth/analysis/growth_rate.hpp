@@ -28,8 +28,8 @@ namespace cloth {
 
 /// A state of the step map.
 struct MapState {
-  Matrix3X x;  // 3 by #P positions (m)
-  Matrix3X v;  // 3 by #P velocities (m/s)
+  Matrix3X x;    // 3 by #P positions (m)
+  Matrix3X v;    // 3 by #P velocities (m/s)
   double t = 0;  // s
 };
 
@@ -39,10 +39,11 @@ constexpr double kMinPerturbation = 1e-12;
 
 /// Options of one growth estimate.
 struct GrowthOptions {
-  double perturbation = 1e-7;  // finite-difference size, relative to the state's scale
-  int vectors = 3;             // block size, at least 2 (complex pairs)
-  int max_iterations = 40;     // block iterations at most
-  double rel_tol = 1e-3;       // stop when rho changes by less than this, relatively
+  double perturbation = 1e-7;   // finite-difference size, relative to the state's scale
+  int vectors = 3;              // block size, at least 2 (complex pairs)
+  int max_iterations = 40;      // block iterations at most
+  double rel_tol = 1e-3;        // stop when rho changes by less than this, relatively, and
+                                // the dominant Ritz pair's relative residual is below its root
   double nonsmooth_tol = 0.05;  // forward and backward differences disagreeing by more than
                                 // this (relative) call the state non-smooth
 };
@@ -51,7 +52,7 @@ struct GrowthOptions {
 struct GrowthEstimate {
   double rho = std::numeric_limits<double>::quiet_NaN();   // largest |eigenvalue| of J
   double rate = std::numeric_limits<double>::quiet_NaN();  // 1/s, ln(rho) / (steps dt)
-  std::complex<double> eigenvalue;                          // the dominant eigenvalue of J
+  std::complex<double> eigenvalue;                         // the dominant eigenvalue of J
   bool smooth = true;            // false: the map is not differentiable at the state
   std::string nonsmooth_reason;  // why not, in words without commas (CSV)
   Matrix3X mode;                 // 3 by #P position part of the dominant mode (real part,
@@ -65,7 +66,11 @@ struct GrowthEstimate {
 /// Estimates the growth of perturbations of state s under `steps` steps of dt of sim, whose
 /// free axes are free (3 by #P, 1 where the axis moves). sim is left in an unspecified state.
 /// Throws std::invalid_argument for a perturbation below kMinPerturbation, fewer than two
-/// vectors, steps < 1 or dt <= 0, and std::logic_error when sim cannot set its state.
+/// vectors, steps < 1, dt <= 0, no free axis or shapes that do not match, and
+/// std::logic_error when sim cannot set its state. A map that overflows (a state that is not
+/// finite after the steps) gives rho and rate infinite and converged false. Costs 1 + k
+/// (iterations + 1) products, k = min(vectors, 2 #free axes): the base map, k per iteration
+/// and k backward differences for the smoothness check.
 GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int steps,
                                const Matrix3X& free, const GrowthOptions& o = {});
 

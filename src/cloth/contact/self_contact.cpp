@@ -447,6 +447,10 @@ SelfContact::ScratchHolder& SelfContact::ScratchHolder::operator=(const ScratchH
   return *this;
 }
 
+void SelfContact::forget_candidates() {
+  m_scratch.ptr->cached = false;
+}
+
 SelfContact::SelfContact(int particle_count, std::vector<Triangle> triangles, SelfContactParams p)
     : m_count(particle_count), m_triangles(std::move(triangles)), m_params(p) {
   if (particle_count < 0) throw std::invalid_argument("self-contact: negative particle count");

@@ -130,6 +130,10 @@ class SelfContact {
   /// True when vertices v and w are at most two mesh edges apart (v == w included).
   bool within_two_rings(int v, int w) const;
 
+  /// Drops the candidate list, so the next resolve() builds it afresh, as a new pass would
+  /// (Simulator::set_state: the next step then depends on its inputs alone, counts included).
+  void forget_candidates();
+
   /// The options the pass was built with.
   const SelfContactParams& params() const { return m_params; }
 

@@ -57,6 +57,10 @@ class ImplicitEulerNewton {
   /// Their impulses along their normals (N s), in the same order.
   const std::vector<double>& impulses() const { return m_impulse; }
 
+  /// Forgets which contacts let go at the last step (Simulator::set_state): the next step
+  /// treats every contact as the first step of a run does.
+  void forget_releases() { m_released.clear(); }
+
   /// Phi at the start and after each Newton iteration of the last step (J).
   const std::vector<double>& objective_history() const { return m_history; }
   /// Largest |M^-1 residual| after the last step (m/s).

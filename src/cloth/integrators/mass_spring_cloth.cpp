@@ -1,5 +1,7 @@
 #include "cloth/integrators/mass_spring_cloth.hpp"
 
+#include <stdexcept>
+#include <string>
 #include <utility>
 
 #include "cloth/contact/colliders.hpp"
@@ -42,6 +44,44 @@ void MassSpringCloth::set_state(const Matrix3X& x, const Matrix3X& v) {
   const auto held = (1.0 - m_model.free.array());
   m_x = (x.array() * m_model.free.array() + m_model.x0.array() * held).matrix();
   m_v = v.cwiseProduct(m_model.free);
+}
+
+namespace {
+
+/// True when x lies within kRestingSlack of the contact shell of any collider at time t (s),
+/// or inside it.
+bool on_a_shell(const Model& m, double t, const Vector3& x) {
+  auto any_of = [&](const auto& colliders) {
+    for (const auto& c : colliders)
+      if (surface_point(c, t, x).distance <= c.margin + kRestingSlack) return true;
+    return false;
+  };
+  return any_of(m.spheres) || any_of(m.shapes.planes) || any_of(m.shapes.boxes) ||
+         any_of(m.shapes.capsules) || any_of(m.shapes.cylinders);
+}
+
+}  // namespace
+
+void MassSpringCloth::set_state(const Matrix3X& x, const Matrix3X& v, double t) {
+  const Eigen::Index n = m_model.particle_count();
+  if (x.rows() != 3 || x.cols() != n || v.rows() != 3 || v.cols() != n)
+    throw std::invalid_argument("set_state: positions and velocities must be 3 by " +
+                                std::to_string(n));
+  // held axes take x as given; their velocity is zero as every step leaves it, but a handle's
+  // particles keep theirs (only the holder's books read it: the next step sets the path's)
+  m_x = x;
+  m_v = v.cwiseProduct(m_model.free);
+  for (const Handle& hd : m_model.handles)
+    for (int p : hd.particles) m_v.col(p) = v.col(p);
+  m_t = t;
+  // the caches between steps: resting particles re-derived from the shells, the rest cleared
+  if (m_self) {
+    m_self->forget_candidates();
+    m_resting.assign(static_cast<size_t>(n), 0);
+    for (Eigen::Index p = 0; p < n; ++p)
+      m_resting[static_cast<size_t>(p)] = on_a_shell(m_model, t, m_x.col(p)) ? 1 : 0;
+  }
+  if (m_newton) m_newton->forget_releases();
 }
 
 double MassSpringCloth::accelerations(const Matrix3X& x, const Matrix3X& v, Matrix3X& a) {

@@ -18,6 +18,11 @@
 
 namespace cloth {
 
+/// Within this of a collider's contact shell a particle counts as touched by the last contact
+/// pass when set_state re-derives which particles rest (m): the pass leaves the particles it
+/// touches on the shell to round-off (about 1e-16 m on metre coordinates).
+constexpr double kRestingSlack = 1e-9;
+
 /// The custom engine. The state starts at rest in the scene's flat grid.
 class MassSpringCloth final : public Simulator {
  public:
@@ -40,6 +45,20 @@ class MassSpringCloth final : public Simulator {
   /// @param x  3 by #P positions (m)
   /// @param v  3 by #P velocities (m/s)
   void set_state(const Matrix3X& x, const Matrix3X& v);
+  bool can_set_state() const override { return true; }
+  /// Puts the engine at time t (s) with positions x (3 by #P, m) and velocities v (3 by #P,
+  /// m/s), held axes included; a held axis of a particle off the handles gets zero velocity, as
+  /// every step leaves it (a handle's velocity enters only the holder's books). What the engine
+  /// keeps between steps is re-derived from (x, t) or cleared: the particles resting on a
+  /// collider (self-contact holds them) are those within kRestingSlack of a collider's shell,
+  /// where the contact pass leaves what it touched; the self-contact candidate list is dropped
+  /// (rebuilt at the next pass); line-search implicit Euler's contacts that let go (those that
+  /// pulled their particle in at the last step) are forgotten. So a run resumed from its own
+  /// state repeats itself, except where the last contact pass moved a particle it touched off
+  /// the shell (friction on a curved shape, the self-contact pass) or a solve's contact was
+  /// letting go. xpbd's multipliers, the implicit solvers' iterates and projective's factors
+  /// (a function of dt) carry nothing between steps.
+  void set_state(const Matrix3X& x, const Matrix3X& v, double t) override;
   const Model& model() const { return m_model; }
   const SolverOptions& options() const { return m_options; }
   /// The line-search Newton solver of implicit Euler; null in the other modes.
