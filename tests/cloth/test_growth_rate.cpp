@@ -183,14 +183,14 @@ TEST_CASE("an inverted pendulum's growth rate is the flow's: sqrt(g / l) at dt a
   CHECK(std::abs(coarse.mode(1, 1)) < 1e-3);
 }
 
-TEST_CASE("growth refuses a perturbation at round-off and a single vector", "[growth]") {
+TEST_CASE("growth refuses a perturbation at round-off and an empty Krylov space", "[growth]") {
   MassSpringCloth c(one_spring(0.1, 100.0, 0.5), options(Integrator::rk4));
   const MapState st{c.positions(), c.velocities(), 0.0};
   GrowthOptions o;
   o.perturbation = 1e-13;
   CHECK_THROWS_AS(estimate_growth(c, st, 1e-3, 1, c.model().free, o), std::invalid_argument);
   o = GrowthOptions{};
-  o.vectors = 1;
+  o.max_iterations = 0;
   CHECK_THROWS_AS(estimate_growth(c, st, 1e-3, 1, c.model().free, o), std::invalid_argument);
   o = GrowthOptions{};
   CHECK_THROWS_AS(estimate_growth(c, st, 0.0, 1, c.model().free, o), std::invalid_argument);
@@ -225,10 +225,12 @@ TEST_CASE("a particle exactly on a collider's contact shell makes the map non-sm
 }
 
 TEST_CASE("growth at the rest state of a grid equals the linear predictor's radius", "[growth]") {
-  // explicit Euler is left out: near its limit its top moduli crowd together (1.0552, 1.0535,
-  // 1.0535, 1.0508 on this grid at 1.1 x) and the block iteration does not converge
-  const Integrator i = GENERATE(Integrator::symplectic_euler, Integrator::rk4);
-  const double factor = GENERATE(1.02, 1.1);
+  // explicit Euler's top moduli crowd together near its limit (1.0552, 1.0535, 1.0535, 1.0508
+  // on this grid at 1.1 x), and below every limit the free bending modes (x' = v, v' = 0) make
+  // a non-normal cluster at 1: both defeated a block iteration, not Arnoldi
+  const Integrator i =
+      GENERATE(Integrator::explicit_euler, Integrator::symplectic_euler, Integrator::rk4);
+  const double factor = GENERATE(0.9, 1.02, 1.1);
   Scene s = clothbench::test::small_cloth(5, 20.0, 0.5);
   s.gravity.setZero();  // the rest state is then an equilibrium
   const LinearSpectrum spectrum = linear_spectrum(build_model(s));
@@ -241,7 +243,9 @@ TEST_CASE("growth at the rest state of a grid equals the linear predictor's radi
     const double w = spectrum.omega_max * n / 1000.0;
     predicted = std::max(predicted, mode_radius(i, h, w, spectrum.beta, spectrum.gamma));
   }
-  CHECK(predicted == Approx(mode_radius(i, h, spectrum.omega_max, spectrum.beta, spectrum.gamma)));
+  if (factor > 1)
+    CHECK(predicted ==
+          Approx(mode_radius(i, h, spectrum.omega_max, spectrum.beta, spectrum.gamma)));
   GrowthOptions o;
   o.rel_tol = 1e-6;
   o.max_iterations = 400;
@@ -251,6 +255,13 @@ TEST_CASE("growth at the rest state of a grid equals the linear predictor's radi
                           << " products");
   CHECK(e.converged);
   CHECK(e.smooth);
-  CHECK(e.rho > 1.0);
-  CHECK(e.rho == Approx(predicted).epsilon(tol::kGrowthVsPredictor));
+  if (factor > 1) {
+    CHECK(e.rho > 1.0);
+    CHECK(e.rho == Approx(predicted).epsilon(tol::kGrowthVsPredictor));
+  } else {
+    // below the limit J's largest modulus is 1 (the free bending modes), a defective
+    // eigenvalue: its Ritz value is off by about the square root of the residual
+    CHECK(e.rho >= 1 - tol::kGrowthDefective);
+    CHECK(e.rho <= 1 + tol::kGrowthDefective);
+  }
 }

@@ -261,6 +261,15 @@ TEST_CASE("every shipped scenario loads, named after its file", "[scenario]") {
   }
 }
 
+TEST_CASE("the example scenarios load", "[scenario]") {
+  // examples/: scenes too long for the regression gate, run by hand or by a benchmark
+  const Scenario s = load_scenario((kSource / "examples/large_steps/fabric_128.toml").string());
+  CHECK(s.name == "fabric_128");
+  CHECK(s.scene.particle_count() == 128 * 128);
+  const cloth::Model m = cloth::build_model(s.scene);
+  CHECK(m.mass.sum() == Approx(0.2).epsilon(1e-12));  // 1 m^2 of 200 g/m^2
+}
+
 TEST_CASE("shipped scenarios hold the particles their comments describe", "[scenario]") {
   const auto load = [](const char* name) {
     return load_scenario((kSource / "scenarios" / (std::string(name) + ".toml")).string());
