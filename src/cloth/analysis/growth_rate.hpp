@@ -23,7 +23,9 @@
 /// slip, an iteration stopping at a different count) gives difference quotients that depend
 /// on e and on its sign: the estimate compares the forward and backward differences on the
 /// dominant mode's direction and reports the state as non-smooth when they disagree, or when
-/// the engine's collider contact count differs between the base map and a perturbed one.
+/// the engine's collider contact count differs between the base map and the maps perturbed
+/// along the mode (contacts that flip elsewhere, under the Krylov vectors' perturbation of
+/// every particle, do not make the mode's growth ill-defined).
 
 #include <complex>
 #include <limits>
