@@ -89,4 +89,9 @@ constexpr double kStickDisplacement = 1e-9;  // m
 /// s_N = a h^2 N (N + 1) / 2 exactly; round-off of 500 steps (measured 1e-14) only.
 constexpr double kSlideAccelerationRelative = 1e-9;
 
+/// The t distribution's tail through the incomplete beta's continued fraction against its
+/// closed forms for 1 to 4 degrees of freedom: the fraction stops at 1e-15 relative, and the
+/// closed forms' own round-off is a few 1e-16 (1e-12 leaves room for the lgamma prefactor).
+constexpr double kStudentTail = 1e-12;
+
 }  // namespace clothbench::tol
