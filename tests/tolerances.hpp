@@ -98,20 +98,24 @@ constexpr double kSlideAccelerationRelative = 1e-9;
 
 /// Growth of a map that is linear to round-off (one particle on a spring along its axis):
 /// forward differences of relative size 1e-7 carry round-off of about eps / 1e-7 ~ 2e-9 of
-/// the entries, and block iteration with as many vectors as the state has entries is
-/// Rayleigh-Ritz on the whole space, exact after one round; 1e-6 leaves a factor 500.
+/// the entries, and Arnoldi on a state of two entries spans the whole space after two
+/// products, its Ritz values then exact; 1e-6 leaves a factor 500.
 constexpr double kGrowthLinearRelative = 1e-6;
 /// Growth rates of one map over 0.1 s at two step sizes and against the flow's sqrt(g / l):
 /// symplectic Euler's rate is sigma (1 - (h sigma)^2 / 24), 1e-5 1/s at h = 1 ms, rk4's far
-/// closer; the iteration stops when rho changes by 1e-6, about 1e-5 1/s in the rate. 1e-3
+/// closer; Arnoldi stops at a relative Ritz residual of 1e-6, about 1e-5 1/s in the rate. 1e-3
 /// 1/s (1.4e-4 of the rate) leaves a factor 50, and a step-size artefact would show as a
 /// change of order one.
 constexpr double kGrowthRateAcrossSteps = 1e-3;  // 1/s
-/// Measured growth at the rest state of the small grid against the linear predictor: the
-/// iteration stops when rho changes by less than 1e-6, so the error left is about that over
-/// 1 - r, r the ratio of the next modulus to the top one (0.92-0.95 on the grid by a dense
-/// Jacobian: rk4 1.0658 against 1.0100, symplectic Euler 1.0886 against 1.0), about 2e-5;
-/// the difference quotients add 1e-8. 1e-4 leaves a factor 5.
+/// Measured growth at the rest state of the small grid against the linear predictor: Arnoldi
+/// stops when the top Ritz pair's relative residual is below 1e-6, and a simple eigenvalue's
+/// error is at most about that residual (a dense Jacobian of the grid confirms the predictor's
+/// top eigenvalue: rk4 1.0658, symplectic Euler 1.0886); the difference quotients add 1e-8.
+/// 1e-4 leaves a factor 100.
 constexpr double kGrowthVsPredictor = 1e-4;
+/// The t distribution's tail through the incomplete beta's continued fraction against its
+/// closed forms for 1 to 4 degrees of freedom: the fraction stops at 1e-15 relative, and the
+/// closed forms' own round-off is a few 1e-16 (1e-12 leaves room for the lgamma prefactor).
+constexpr double kStudentTail = 1e-12;
 
 }  // namespace clothbench::tol

@@ -146,8 +146,15 @@ Command add_check_command(CLI::App& app) {
       "--json", a->json_path, "also write the gate table as JSON to FILE; - for standard output");
   auto* update = check->get_option("--update");
   junit->excludes(update), json->excludes(update);
-  check->add_option("--jobs,-j", o.jobs, "threads for the stability searches")
+  check->add_option("--jobs,-j", o.jobs, "threads for the stability searches and ensembles")
       ->check(positive_integer());
+  check->add_flag("--ensemble", o.ensemble,
+                  "run the ensembles of the rows tolerances.toml gates by ensemble "
+                  "([ensemble.<engine>]) and gate their means by Welch's t-test (without it "
+                  "they are shown, not gated; --update always records them)");
+  check->add_option("--ensemble-seed", o.ensemble_seed,
+                    "seed of the ensemble members' perturbations (default 0: the recorded "
+                    "members; another seed draws new ones, to measure the false-alarm rate)");
   add_max_run_seconds(check, o.max_run_seconds);
   check->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {check, [a] { return execute_check(*a); }};

@@ -15,12 +15,14 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "harness/gate/ensemble_gate.hpp"
 #include "harness/gate/tolerances_file.hpp"
 #include "harness/io/csv_reader.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/text_file.hpp"
 #include "harness/io/user_error.hpp"
+#include "harness/run/run_parallel.hpp"
 #include "harness/run/runner.hpp"
 #include "harness/scenario/scenario_loader.hpp"
 #include "harness/sweeps/stability_sweep.hpp"
@@ -46,6 +48,10 @@ void check_tolerance_engines(const Tolerances& t, const Scenario& sc, const fs::
   for (const auto& [engine, q] : t.ungated)
     if (!has(engine))
       throw UserError(p.string() + ": [ungated." + engine + "] names an engine " + sc.name +
+                      " does not have");
+  for (const auto& [engine, e] : t.ensemble)
+    if (!has(engine))
+      throw UserError(p.string() + ": [ensemble." + engine + "] names an engine " + sc.name +
                       " does not have");
   for (const std::string& engine : t.mirrored)
     if (!has(engine))
@@ -159,8 +165,23 @@ std::string engine_of(const std::string& key) {
   return key.substr(0, key.rfind('/'));
 }
 
+double mean_of(const std::vector<double>& v) {
+  double sum = 0;
+  for (double x : v) sum += x;
+  return v.empty() ? NAN : sum / double(v.size());
+}
+
+// whether the tolerances gate this engine's quantity by its ensemble
+bool in_ensemble(const Tolerances& tol, const std::string& engine, const std::string& q) {
+  const auto it = tol.ensemble.find(engine);
+  return it != tol.ensemble.end() && it->second.quantities.count(q);
+}
+
+const char* kEnsembleElsewhere = "gated by its ensemble (check --ensemble)";
+
 void write_baseline(const fs::path& dir, const RunResult& result,
-                    const std::vector<StabilityRow>* stability, PendingBaselines& pending) {
+                    const std::vector<StabilityRow>* stability, const EnsembleValues& ensemble,
+                    PendingBaselines& pending) {
   make_directories(dir.string());
   auto metrics = std::make_unique<CsvWriter>((dir / "metrics.csv").string(), kMetricsHeader);
   for (size_t i = 0; i < result.runs.size(); ++i)
@@ -189,6 +210,15 @@ void write_baseline(const fs::path& dir, const RunResult& result,
     // limits no longer searched must not linger as a baseline nobody checks
     pending.remove_on_commit((dir / "stability.csv").string());
   }
+  const fs::path ens = dir / "metrics_ensemble.csv";
+  if (ensemble.empty()) {
+    pending.remove_on_commit(ens.string());
+    return;
+  }
+  auto w =
+      std::make_unique<CsvWriter>(ens.string(), output_header("baselines/metrics_ensemble.csv"));
+  write_ensemble(ensemble, *w);
+  pending.add(std::move(w));
 }
 
 // what --update changed: metrics, final shapes (RMS per engine) and stability limits
@@ -298,12 +328,72 @@ struct CheckPlan {
   fs::path stability_path() const { return dir / "stability.csv"; }
 };
 
-/// What the scenario does now: its run, and its stability limits when they are gated.
+/// What the scenario does now: its run, its stability limits when they are gated, and the
+/// members' values of its ensembles when they run.
 struct CheckRun {
   RunResult result;
   std::vector<StabilityRow> stability;
   Brackets brackets;
+  EnsembleValues ensemble;
 };
+
+/// One ensemble engine's figures in one member: its metrics (final_shape_rms from the
+/// reference shape), and its first and last positions (3 by #P) for the growth exponent.
+struct MemberEnd {
+  std::map<std::string, double> values;
+  cloth::Matrix3X start, end;
+  double t_end = 0;  // s, time of the last frame
+};
+using MemberRun = std::map<std::string, MemberEnd>;  // by engine
+
+MemberRun summarize_member(const RunResult& r, const Tolerances& tol, const Shapes& shapes) {
+  MemberRun out;
+  for (size_t i = 0; i < r.runs.size(); ++i) {
+    const EngineRun& run = r.runs[i];
+    if (!tol.ensemble.count(run.spec.name)) continue;
+    MemberEnd& e = out[run.spec.name];
+    e.values = run_metrics(r, i);
+    const auto it = shapes.find(run.spec.name);
+    e.values["final_shape_rms"] =
+        it == shapes.end() ? NAN : shape_rms(run.snapshots.back(), it->second);
+    e.start = run.snapshots.front(), e.end = run.snapshots.back(), e.t_end = run.frames.back().t;
+  }
+  return out;
+}
+
+/// The ensembles' values: member 0 is run0, members 1.. run on o.jobs threads (their engines
+/// and the reference only); final_shape_rms is measured from shapes (the recorded ones, or
+/// run0's for an update); plus each engine's growth exponent between members 0 and 1.
+EnsembleValues run_ensemble(const Scenario& sc, const Tolerances& tol, const RunResult& run0,
+                            const Shapes& shapes, const CheckOptions& o) {
+  int members = 0;
+  std::vector<std::string> engines;
+  for (const auto& [engine, e] : tol.ensemble) {
+    members = std::max(members, e.members);
+    engines.push_back(engine);
+  }
+  std::vector<MemberRun> runs(static_cast<size_t>(members));
+  runs[0] = summarize_member(run0, tol, shapes);
+  run_parallel(members - 1, o.jobs, [&](int k) {
+    RunOptions ro;
+    ro.progress = false;
+    ro.engines = engines;
+    ro.member = k + 1;
+    ro.member_seed = o.ensemble_seed;
+    runs[size_t(k + 1)] = summarize_member(run_scenario(sc, ro), tol, shapes);
+  });
+  // per engine and quantity, the values of its members
+  EnsembleValues values;
+  for (const auto& [engine, e] : tol.ensemble) {
+    for (const std::string& q : e.quantities)
+      for (int m = 0; m < e.members; ++m)
+        values[engine + "/" + q].push_back(runs[size_t(m)].at(engine).values.at(q));
+    const MemberEnd &a = runs[0].at(engine), &b = runs[1].at(engine);
+    values[engine + "/growth_exponent"] = {
+        growth_exponent(a.start, b.start, a.end, b.end, std::min(a.t_end, b.t_end))};
+  }
+  return values;
+}
 
 /// Refuses a perturbed update, loads the scenario and its tolerances (writing the template
 /// first for a new baseline).
@@ -351,6 +441,15 @@ CheckRun run_check(const CheckPlan& plan, const CheckOptions& o) {
     now.stability = run_stability(plan.sc, so);
   }
   now.brackets = brackets_of(now.stability);
+  if ((o.update || o.ensemble) && !plan.tol.ensemble.empty()) {
+    // an update measures shapes from its own member 0, a check from the recorded shapes
+    Shapes shapes;
+    if (o.update)
+      for (const EngineRun& run : now.result.runs) shapes[run.spec.name] = run.snapshots.back();
+    else
+      shapes = read_shapes(plan.shape_path(), now.result.model);
+    now.ensemble = run_ensemble(plan.sc, plan.tol, now.result, shapes, o);
+  }
   return now;
 }
 
@@ -369,11 +468,21 @@ std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now, const Check
   const Brackets old_brackets =
       fs::exists(plan.stability_path()) ? read_brackets(plan.stability_path()) : Brackets();
   PendingBaselines own;
-  write_baseline(plan.dir, now.result, plan.tol.stability ? &now.stability : nullptr,
+  const fs::path ens_path = plan.dir / "metrics_ensemble.csv";
+  const EnsembleValues old_ensemble =
+      fs::exists(ens_path) ? read_ensemble(ens_path.string()) : EnsembleValues();
+  write_baseline(plan.dir, now.result, plan.tol.stability ? &now.stability : nullptr, now.ensemble,
                  o.pending ? *o.pending : own);
   own.commit();
   std::vector<Gate> gates =
       changes(plan.sc.name, old_metrics, old_shapes, old_brackets, now.result, now.brackets);
+  for (const auto& [key, v] : now.ensemble) {
+    const auto it = old_ensemble.find(key);
+    if (it == old_ensemble.end() || it->second != v)
+      gates.push_back({plan.sc.name, engine_of(key), key.substr(key.rfind('/') + 1) + " (mean)",
+                       it == old_ensemble.end() ? NAN : mean_of(it->second), mean_of(v), NAN, NAN,
+                       true, "ensemble of " + std::to_string(v.size()) + " recorded", "-"});
+  }
   if (!grid_changed.empty())
     gates.push_back({plan.sc.name, "", "final_shape_rms", NAN, NAN, NAN, NAN, true,
                      "previous shapes not comparable: " + grid_changed, "-"});
@@ -432,7 +541,8 @@ std::set<std::string> compare_engines(const Metrics& base, const Shapes& shapes,
 }
 
 void compare_metrics(const Metrics& base, const std::set<std::string>& recorded,
-                     const Tolerances& tol, const RunResult& result, GateList& gates) {
+                     const Tolerances& tol, const RunResult& result, bool ensembles_ran,
+                     GateList& gates) {
   for (size_t i = 0; i < result.runs.size(); ++i) {
     const EngineSpec& spec = result.runs[i].spec;
     if (!recorded.count(spec.name)) continue;
@@ -444,6 +554,11 @@ void compare_metrics(const Metrics& base, const std::set<std::string>& recorded,
         continue;
       }
       const double b = it->second, v = now.at(q);
+      // an ensemble row replaces the single run's, or is shown for the record
+      if (in_ensemble(tol, spec.name, q)) {
+        if (!ensembles_ran) gates.ungated(spec.name, q, b, v, std::abs(v - b), kEnsembleElsewhere);
+        continue;
+      }
       const auto listed = tol.ungated.find(spec.name);
       const std::string why = listed != tol.ungated.end() && listed->second.count(q)
                                   ? "not gated: " + listed->second.at(q)
@@ -457,7 +572,8 @@ void compare_metrics(const Metrics& base, const std::set<std::string>& recorded,
 }
 
 void compare_shapes(const Shapes& shapes, const std::set<std::string>& recorded,
-                    const Tolerances& tol, const RunResult& result, GateList& gates) {
+                    const Tolerances& tol, const RunResult& result, bool ensembles_ran,
+                    GateList& gates) {
   for (const EngineRun& run : result.runs) {
     if (!recorded.count(run.spec.name)) continue;
     const auto it = shapes.find(run.spec.name);
@@ -466,6 +582,11 @@ void compare_shapes(const Shapes& shapes, const std::set<std::string>& recorded,
       continue;
     }
     double rms = shape_rms(run.snapshots.back(), it->second);
+    if (in_ensemble(tol, run.spec.name, "final_shape_rms")) {
+      if (!ensembles_ran)
+        gates.ungated(run.spec.name, "final_shape_rms", 0.0, rms, rms, kEnsembleElsewhere);
+      continue;
+    }
     const auto listed = tol.ungated.find(run.spec.name);
     if (listed != tol.ungated.end() && listed->second.count("final_shape_rms")) {
       gates.ungated(run.spec.name, "final_shape_rms", 0.0, rms, rms,
@@ -531,14 +652,45 @@ void compare_stability(const CheckPlan& plan, const Brackets& now, GateList& gat
   }
 }
 
+/// The ensemble rows: each listed quantity by Welch's test at kEnsembleFalseAlarm over the
+/// scenario's rows, and each engine's growth exponent for the record.
+void compare_ensembles(const CheckPlan& plan, const CheckRun& now,
+                       const std::set<std::string>& recorded, GateList& gates) {
+  size_t rows = 0;
+  for (const auto& [engine, e] : plan.tol.ensemble) rows += e.quantities.size();
+  const double alpha = kEnsembleFalseAlarm / double(rows);
+  const EnsembleValues base = read_ensemble((plan.dir / "metrics_ensemble.csv").string());
+  for (const auto& [engine, e] : plan.tol.ensemble) {
+    if (!recorded.count(engine)) continue;
+    for (const std::string& q : e.quantities) {
+      const auto it = base.find(engine + "/" + q);
+      const std::vector<double> b = it == base.end() ? std::vector<double>() : it->second;
+      if (b.size() != size_t(e.members)) {
+        gates.fail(engine, q, mean_of(b), NAN,
+                   "the baseline has " + std::to_string(b.size()) + " members, tolerances.toml " +
+                       std::to_string(e.members) + " (record them with --update)");
+        continue;
+      }
+      gates.add(
+          ensemble_gate(plan.sc.name, engine, q, b, now.ensemble.at(engine + "/" + q), alpha));
+    }
+    const auto g = base.find(engine + "/growth_exponent");
+    gates.ungated(engine, "growth_exponent", g == base.end() ? NAN : mean_of(g->second),
+                  mean_of(now.ensemble.at(engine + "/growth_exponent")), NAN,
+                  "for the record: ln(|dX(T)| / |dX(0)|) / T (1/s), members 0 and 1");
+  }
+}
+
 /// Compares the run now with the recorded baseline, gate by gate.
 std::vector<Gate> compare(const CheckPlan& plan, const CheckRun& now) {
   GateList gates(plan.sc.name);
   const Metrics base = read_metrics(plan.metrics_path());
   const Shapes shapes = read_shapes(plan.shape_path(), now.result.model);
   const std::set<std::string> recorded = compare_engines(base, shapes, now.result, gates);
-  compare_metrics(base, recorded, plan.tol, now.result, gates);
-  compare_shapes(shapes, recorded, plan.tol, now.result, gates);
+  const bool ensembles_ran = !now.ensemble.empty();
+  compare_metrics(base, recorded, plan.tol, now.result, ensembles_ran, gates);
+  compare_shapes(shapes, recorded, plan.tol, now.result, ensembles_ran, gates);
+  if (ensembles_ran) compare_ensembles(plan, now, recorded, gates);
   compare_stability(plan, now.brackets, gates);
   return std::move(gates.gates());
 }

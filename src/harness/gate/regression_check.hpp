@@ -8,6 +8,8 @@
 ///   metrics.csv      per-engine summary figures and costs
 ///   shape.csv        the final shape of every engine
 ///   stability.csv    the stability limits (when tolerances.toml has a [stability] table)
+///   metrics_ensemble.csv  the members' values of the quantities gated by an ensemble (when it
+///                    has [ensemble.<engine>] tables; ensemble_gate.hpp)
 /// (their columns: io/output_schema.cpp, printed by `clothbench schema --outputs`)
 ///
 /// Every engine and stability row on either side is gated: one recorded in the baseline that
@@ -44,10 +46,14 @@ struct CheckOptions {
   bool update = false;                 // record new baselines instead of comparing
   bool record_perturbed = false;       // with update and overrides: record them anyway
   bool progress = true;
-  int jobs = 1;                         // threads for the stability searches
-  double max_run_seconds = 0;           // s per engine run before it stops as a timeout (0: none)
-  PendingBaselines* pending = nullptr;  // update: the new files wait here for the caller's
-                                        // commit (nullptr: each scenario commits its own)
+  int jobs = 1;                          // threads for the stability searches and ensembles
+  bool ensemble = false;                 // run the ensembles and gate their rows (without it
+                                         // they are shown, not gated; --update always runs them)
+  unsigned long long ensemble_seed = 0;  // seed of the members' perturbations (0: the
+                                         // recorded members)
+  double max_run_seconds = 0;            // s per engine run before it stops as a timeout (0: none)
+  PendingBaselines* pending = nullptr;   // update: the new files wait here for the caller's
+                                         // commit (nullptr: each scenario commits its own)
 };
 
 /// One gated quantity.

@@ -124,6 +124,39 @@ void read_ungated_table(const fs::path& p, const toml::table& u,
   }
 }
 
+/// [ensemble.<engine>]: members and quantities gated by an ensemble, with the reason.
+void read_ensemble_table(const fs::path& p, const toml::table& u,
+                         const std::vector<std::string>& known, Tolerances& t) {
+  for (const auto& [engine_key, node] : u) {
+    const std::string engine(engine_key.str()), where = "ensemble." + engine;
+    const toml::table* e = node.as_table();
+    if (!e)
+      throw UserError(where_in(p, node, where) +
+                      "expected { members = N, quantities = [...], reason = \"...\" }");
+    require_known_keys(p, *e, where + ".", {"members", "quantities", "reason"});
+    Tolerances::Ensemble& ens = t.ensemble[engine];
+    const toml::node* members = e->get("members");
+    if (!members) throw UserError(where_in(p, node, where) + "no members (expected N >= 2)");
+    const std::optional<int64_t> n = members->value_exact<int64_t>();
+    if (!n || *n < 2 || *n > 1000)
+      throw UserError(where_in(p, *members, where + ".members") +
+                      "expected a whole number from 2 to 1000, got " + describe(*members));
+    ens.members = int(*n);
+    ens.reason = (*e)["reason"].value_or(std::string());
+    if (ens.reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
+    for (const std::string& q : strings_at(p, (*e)["quantities"], where + ".quantities")) {
+      if (std::find(known.begin(), known.end(), q) == known.end())
+        throw UserError(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
+      const auto u_it = t.ungated.find(engine);
+      if (u_it != t.ungated.end() && u_it->second.count(q))
+        throw UserError(p.string() + ": " + where + ": \"" + q + "\" is also in [ungated." +
+                        engine + "]; a quantity is gated by its ensemble or not at all");
+      ens.quantities.insert(q);
+    }
+    if (ens.quantities.empty()) throw UserError(p.string() + ": " + where + ": no quantities");
+  }
+}
+
 }  // namespace
 
 Tolerances read_tolerances(const fs::path& p) {
@@ -144,7 +177,8 @@ Tolerances read_tolerances(const fs::path& p) {
   known.push_back("final_shape_rms");
   for (const auto& [key, node] : root) {
     const std::string name(key.str());
-    if (name == "stability" || name == "ungated" || name == "mirror") continue;
+    if (name == "stability" || name == "ungated" || name == "ensemble" || name == "mirror")
+      continue;
     if (std::find(known.begin(), known.end(), name) == known.end())
       throw UserError(where_in(p, node, name) + "unknown quantity");
     const toml::table* tab = node.as_table();
@@ -157,6 +191,13 @@ Tolerances read_tolerances(const fs::path& p) {
     if (!t.quantity.count(q)) throw UserError(p.string() + ": no tolerance for " + q);
   if (const toml::table* s = root["stability"].as_table()) read_stability_table(p, *s, t);
   if (const toml::table* u = root["ungated"].as_table()) read_ungated_table(p, *u, known, t);
+  if (root.contains("ensemble")) {
+    const toml::table* e = root["ensemble"].as_table();
+    if (!e)
+      throw UserError(where_in(p, *root.get("ensemble"), "ensemble") +
+                      "expected tables [ensemble.<engine>] with members = N (N >= 2)");
+    read_ensemble_table(p, *e, known, t);
+  }
   if (const toml::table* m = root["mirror"].as_table()) {
     require_known_keys(p, *m, "mirror.", {"engines"});
     for (const std::string& e : strings_at(p, (*m)["engines"], "mirror.engines"))

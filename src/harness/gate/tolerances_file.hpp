@@ -2,8 +2,26 @@
 /// @file tolerances_file.hpp
 /// A baseline's tolerances.toml, hand-written: how far each quantity of metrics.csv may move
 /// ({ abs, rel } each, with its reason), which stability searches are gated ([stability]),
-/// which quantities are not gated for an engine and why ([ungated.<engine>]), and which
-/// engines' shapes are compared up to the scene's mirror image ([mirror]).
+/// which quantities are not gated for an engine and why ([ungated.<engine>]), which are gated
+/// by an ensemble ([ensemble.<engine>]), and which engines' shapes are compared up to the
+/// scene's mirror image ([mirror]).
+///
+/// An engine whose result on a chaotic scene no single run reproduces is gated by the
+/// distribution of its results instead:
+///
+///   [ensemble.bullet-softbody-matched]
+///   members = 8                      # N >= 2 runs: member 0 the scene, 1..N-1 perturbed at
+///                                    # round-off level (run/ensemble_member.hpp)
+///   quantities = ["final_shape_rms", "final_com_y"]
+///   reason = "a 1e-13 change of gravity moves its final shape by 16 mm"
+///
+/// `check --update` records the N members' values (metrics_ensemble.csv); `check --ensemble`
+/// runs the same N members and gates each listed quantity's mean against the recorded mean by
+/// Welch's t-test at false-alarm rate 1e-3 per quantity, Bonferroni-divided over the
+/// scenario's ensemble rows (ensemble_gate.hpp). final_shape_rms is, per member, the RMS
+/// distance of its final shape from the recorded shape.csv (member 0's). Without --ensemble
+/// these rows are shown, not gated. A quantity is either listed here or in [ungated.<engine>]
+/// or gated by its tolerance, never two of these.
 
 #include <cmath>
 #include <filesystem>
@@ -32,6 +50,13 @@ struct Tolerances {
   bool stability_adjacent = false;  // brackets that only share an end pass too
   // [ungated.<engine>]: quantities not gated for that engine, with the reason
   std::map<std::string, std::map<std::string, std::string>> ungated;
+  // [ensemble.<engine>]: members and quantities gated by the ensemble, with the reason
+  struct Ensemble {
+    int members = 0;  // N >= 2
+    std::set<std::string> quantities;
+    std::string reason;
+  };
+  std::map<std::string, Ensemble> ensemble;
   // [mirror]: engines whose final shape is compared up to the scene's mirror image
   std::set<std::string> mirrored;
 };
@@ -41,7 +66,9 @@ extern const std::vector<std::string> kMetricQuantities;
 
 /// Reads and checks a tolerance file. Throws UserError naming file, line and key for a file
 /// that does not parse, an unknown key or quantity, a quantity without a tolerance, or a
-/// tolerance that is not a finite number >= 0 (NaN included).
+/// tolerance that is not a finite number >= 0 (NaN included), an ensemble of fewer than 2
+/// members or whose members is not a whole number, and a quantity both in an ensemble and
+/// ungated.
 Tolerances read_tolerances(const std::filesystem::path& p);
 
 }  // namespace clothbench

@@ -268,7 +268,17 @@ std::vector<OutputFile> baseline_files() {
            {kEngine,
             kIntegrator,
             {"stable_dt", "s", "largest time step found stable"},
-            {"first_unstable_dt", "s", "smallest time step found unstable; inf when none"}}}};
+            {"first_unstable_dt", "s", "smallest time step found unstable; inf when none"}}},
+          {"baselines/metrics_ensemble.csv",
+           where,
+           "one member's value of one quantity of one engine gated by an ensemble (scenarios "
+           "with [ensemble.<engine>] tables), and per such engine its growth_exponent",
+           {kEngine,
+            {"quantity", "text",
+             "the ensemble-gated quantity; growth_exponent: ln(|dX(T)| / |dX(0)|) / T (1/s) "
+             "between members 0 and 1"},
+            {"member", "count", "ensemble member, 0 the unperturbed scene"},
+            {"value", "the quantity's", "the member's value"}}}};
 }
 
 std::string json_string(const std::string& s) {

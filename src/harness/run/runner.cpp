@@ -17,6 +17,7 @@
 #include "harness/io/staged_folder.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/build_info.hpp"
+#include "harness/run/ensemble_member.hpp"
 #include "harness/run/mesh_file.hpp"
 #include "harness/run/trajectory_files.hpp"
 #include "harness/scenario/engine_refusal.hpp"
@@ -198,7 +199,9 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   return run;
 }
 
-RunResult run_scenario(const Scenario& sc, const RunOptions& options) {
+RunResult run_scenario(const Scenario& unperturbed, const RunOptions& options) {
+  Scenario sc = unperturbed;
+  sc.scene = perturbed_scene(sc.scene, options.member, options.member_seed);
   RunResult result;
   result.scenario = sc;
   result.model = cloth::build_model(sc.scene);

@@ -37,9 +37,11 @@ struct EngineRun {
 
 /// Run-wide options.
 struct RunOptions {
-  std::vector<std::string> engines;  // names to run; empty: all (the reference always runs)
-  bool progress = true;              // progress on stderr
-  bool keep_positions = true;        // keep every frame's positions (for divergence)
+  std::vector<std::string> engines;    // names to run; empty: all (the reference always runs)
+  bool progress = true;                // progress on stderr
+  bool keep_positions = true;          // keep every frame's positions (for divergence)
+  int member = 0;                      // ensemble member: 0 the scene, m >= 1 perturbed
+  unsigned long long member_seed = 0;  // seed of the members' perturbations
 };
 
 /// All engines of one scenario, and their divergence from the reference.
@@ -74,7 +76,9 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
 constexpr double kEnergyCheckInterval = 0.01;
 
 /// Runs the scenario's engines (all engines are built first, so a bad one fails before any
-/// work). Throws std::invalid_argument for an engine filter naming no engine.
+/// work), on the scene of ensemble member options.member (ensemble_member.hpp; the result's
+/// scenario and model are that member's). Throws std::invalid_argument for an engine filter naming
+/// no engine.
 RunResult run_scenario(const Scenario& sc, const RunOptions& options);
 
 /// Writes frames.csv, divergence.csv, snapshots.csv, summary.csv, scenario.toml and run.json
