@@ -12,7 +12,7 @@
 #include "harness/io/output_lock.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario_overrides.hpp"
-#include "harness/sweeps/stability_map.hpp"
+#include "harness/stability/stability_map.hpp"
 #include "support/option_checks.hpp"
 #include "support/scenario_input.hpp"
 #include "support/summaries.hpp"

@@ -8,9 +8,9 @@
 #include "cloth/model/model.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario_loader.hpp"
-#include "harness/sweeps/growth_search.hpp"
-#include "harness/sweeps/growth_states.hpp"
-#include "harness/sweeps/stability_sweep.hpp"
+#include "harness/stability/growth_search.hpp"
+#include "harness/stability/growth_states.hpp"
+#include "harness/stability/stability_sweep.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
 

@@ -11,7 +11,7 @@
 #include "harness/run/metrics.hpp"
 #include "harness/run/runner.hpp"
 #include "harness/scenario/scenario_loader.hpp"
-#include "harness/sweeps/stability_sweep.hpp"
+#include "harness/stability/stability_sweep.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
 

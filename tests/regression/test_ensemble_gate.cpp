@@ -179,8 +179,8 @@ TEST_CASE("a tolerance file's ensembles: N >= 2 whole members, known quantities"
   }
   // one member, a fraction, a string, none: refused on the members line (line 10 or 11)
   const std::string quantities = "quantities = [\"final_com_y\"]\n";
-  for (const std::string& bad : {"members = 1\n", "members = 2.5\n", "members = \"eight\"\n",
-                                 "members = 0\n", "members = -3\n"}) {
+  for (const char* bad : {"members = 1\n", "members = 2.5\n", "members = \"eight\"\n",
+                          "members = 0\n", "members = -3\n"}) {
     const std::string msg = refusal(tolerance_text(table + bad + quantities));
     CHECK_THAT(msg, Catch::Contains("tolerances.toml:13: ensemble.bullet.members"));
     CHECK_THAT(msg, Catch::Contains("from 2 to 1000"));

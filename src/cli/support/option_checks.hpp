@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "cloth/model/integrator.hpp"
+#include "harness/stability/stability_sweep.hpp"
 #include "harness/sweeps/shard.hpp"
-#include "harness/sweeps/stability_sweep.hpp"
 
 namespace clothbench::cli {
 

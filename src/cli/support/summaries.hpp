@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "harness/run/runner.hpp"
-#include "harness/sweeps/stability_map.hpp"
-#include "harness/sweeps/stability_sweep.hpp"
+#include "harness/stability/stability_map.hpp"
+#include "harness/stability/stability_sweep.hpp"
 
 namespace clothbench {
 

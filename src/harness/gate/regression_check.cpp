@@ -25,7 +25,7 @@
 #include "harness/run/run_parallel.hpp"
 #include "harness/run/runner.hpp"
 #include "harness/scenario/scenario_loader.hpp"
-#include "harness/sweeps/stability_sweep.hpp"
+#include "harness/stability/stability_sweep.hpp"
 #include "harness/sweeps/sweep.hpp"
 
 namespace clothbench {

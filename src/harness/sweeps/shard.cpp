@@ -214,6 +214,25 @@ void require_every_unit(const std::vector<ShardFolder>& shards,
 
 }  // namespace
 
+/// A stability sweep's growing modes (stability_modes/ROW.npy, ROW the row's index in the
+/// whole sweep, so no two shards write the same name; rest.npy the same in each) copied into
+/// the merged folder.
+void copy_modes(const std::vector<ShardFolder>& shards, const std::string& out_dir) {
+  namespace fs = std::filesystem;
+  for (const ShardFolder& s : shards) {
+    const fs::path modes = fs::path(s.dir) / "stability_modes";
+    if (!fs::is_directory(modes)) continue;
+    const fs::path to = fs::path(out_dir) / "stability_modes";
+    std::error_code ec;
+    fs::create_directories(to, ec);
+    for (const auto& e : fs::directory_iterator(modes)) {
+      if (!ec && e.is_regular_file() && e.path().extension() == ".npy")
+        fs::copy_file(e.path(), to / e.path().filename(), fs::copy_options::overwrite_existing, ec);
+      if (ec) throw UserError(to.string() + ": cannot copy the growing modes: " + ec.message());
+    }
+  }
+}
+
 MergeSummary merge_shards(const std::string& out_dir, const std::vector<std::string>& dirs) {
   // which sweep: every folder a shard of the same one, every shard there once
   if (dirs.empty()) throw UserError("merge: no shard folders given");
@@ -244,6 +263,7 @@ MergeSummary merge_shards(const std::string& out_dir, const std::vector<std::str
   }
   table.commit();
   for (auto& s : sidecars) s->commit();
+  copy_modes(shards, out_dir);
   write_run_info(out_dir + "/");
   return {plan.command, plan.table, int(shards.size()), rows};
 }

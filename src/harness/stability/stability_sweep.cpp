@@ -1,4 +1,4 @@
-#include "harness/sweeps/stability_sweep.hpp"
+#include "harness/stability/stability_sweep.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -14,8 +14,8 @@
 #include "harness/run/runner.hpp"
 #include "harness/scenario/engine_refusal.hpp"
 #include "harness/scenario/scenario_format.hpp"
-#include "harness/sweeps/stability_files.hpp"
-#include "harness/sweeps/stability_search.hpp"
+#include "harness/stability/stability_files.hpp"
+#include "harness/stability/stability_search.hpp"
 #include "harness/sweeps/sweep_table.hpp"
 
 namespace clothbench {

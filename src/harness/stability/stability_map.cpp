@@ -1,6 +1,6 @@
 /// @file stability_map.cpp
 
-#include "harness/sweeps/stability_map.hpp"
+#include "harness/stability/stability_map.hpp"
 
 #include <algorithm>
 #include <cstdio>
@@ -13,7 +13,7 @@
 #include "harness/run/progress.hpp"
 #include "harness/run/run_parallel.hpp"
 #include "harness/scenario/scenario_writer.hpp"
-#include "harness/sweeps/stability_files.hpp"
+#include "harness/stability/stability_files.hpp"
 
 namespace clothbench {
 namespace {

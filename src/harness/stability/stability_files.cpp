@@ -1,4 +1,4 @@
-#include "harness/sweeps/stability_files.hpp"
+#include "harness/stability/stability_files.hpp"
 
 #include <cmath>
 #include <limits>

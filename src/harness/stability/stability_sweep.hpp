@@ -30,9 +30,9 @@
 
 #include "harness/run/run_parallel.hpp"
 #include "harness/scenario/scenario.hpp"
-#include "harness/sweeps/growth_search.hpp"
+#include "harness/stability/growth_search.hpp"
+#include "harness/stability/stability_search.hpp"
 #include "harness/sweeps/shard.hpp"
-#include "harness/sweeps/stability_search.hpp"
 #include "harness/sweeps/sweep.hpp"
 
 namespace clothbench {

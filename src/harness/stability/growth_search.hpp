@@ -26,7 +26,7 @@
 #include "cloth/model/integrator.hpp"
 #include "cloth/model/model.hpp"
 #include "harness/scenario/scenario.hpp"
-#include "harness/sweeps/growth_states.hpp"
+#include "harness/stability/growth_states.hpp"
 
 namespace clothbench {
 

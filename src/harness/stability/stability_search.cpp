@@ -1,4 +1,4 @@
-#include "harness/sweeps/stability_search.hpp"
+#include "harness/stability/stability_search.hpp"
 
 #include <algorithm>
 #include <cmath>

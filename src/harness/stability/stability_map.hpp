@@ -18,8 +18,8 @@
 #include <vector>
 
 #include "harness/scenario/scenario.hpp"
+#include "harness/stability/stability_sweep.hpp"
 #include "harness/sweeps/map_grid.hpp"
-#include "harness/sweeps/stability_sweep.hpp"
 
 namespace clothbench {
 

@@ -1,4 +1,4 @@
-#include "harness/sweeps/growth_search.hpp"
+#include "harness/stability/growth_search.hpp"
 
 #include <algorithm>
 #include <cmath>

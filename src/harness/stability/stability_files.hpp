@@ -9,7 +9,7 @@
 #include "cloth/model/types.hpp"
 #include "harness/io/csv_reader.hpp"
 #include "harness/scenario/scenario.hpp"
-#include "harness/sweeps/stability_sweep.hpp"
+#include "harness/stability/stability_sweep.hpp"
 
 namespace clothbench {
 

@@ -1,4 +1,4 @@
-#include "harness/sweeps/growth_states.hpp"
+#include "harness/stability/growth_states.hpp"
 
 #include <algorithm>
 #include <cmath>
