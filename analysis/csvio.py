@@ -22,7 +22,7 @@ class Schema:
     text      columns kept as strings
     flags     columns holding 0 or 1 (true/false also accepted), read as float 0.0 / 1.0
     keys      columns that must not be empty in any row
-    optional  numeric columns read as numbers when present (newer columns an older run lacks)
+    optional  columns an older run lacks, read when present (as numbers unless also in text)
     """
 
     def __init__(self, required, text=(), flags=(), keys=(), optional=()):
@@ -67,13 +67,13 @@ SCHEMAS = {
         ["engine", "integrator", "stable_dt", "first_unstable_dt", "predicted_dt",
          "ratio_measured_to_predicted", "cause"],
         text=["engine", "integrator", "cause"] + STABILITY_GROWTH_TEXT, keys=["engine"],
-        optional=STABILITY_GROWTH_NUMBERS),
+        optional=STABILITY_GROWTH_NUMBERS + STABILITY_GROWTH_TEXT),
     # clothbench map: the varied keys' columns come first and are kept as text
     "map.csv": Schema(
         ["engine", "integrator", "stable_dt", "first_unstable_dt", "predicted_dt",
          "ratio_measured_to_predicted", "cause"],
         text=["engine", "integrator", "cause"] + STABILITY_GROWTH_TEXT, keys=["engine"],
-        optional=STABILITY_GROWTH_NUMBERS),
+        optional=STABILITY_GROWTH_NUMBERS + STABILITY_GROWTH_TEXT),
     "work_precision.csv": Schema(
         ["engine", "integrator", "dt", "stable", "error_final", "error_max", "wall_s",
          "wall_s_per_sim_s", "force_evals", "cg_iterations"],

@@ -7,7 +7,7 @@ set -u
 clothbench=$1 src=$2 work=$3
 . "$src/tests/cli/expect.sh"
 scen=$src/scenarios/hanging_chain.toml
-pick=(-e custom-symplectic-euler -i symplectic-euler -i implicit-euler --dt-max 0.05 -q)
+pick=(-e custom-symplectic-euler -i symplectic-euler -i implicit-euler --dt-max 0.05 --method both -q)
 
 expect 0 "$clothbench" map "$scen" --vary cloth.stiffness.structural=500,2000 "${pick[@]}" -o "$work/map"
 for k in 500 2000; do
