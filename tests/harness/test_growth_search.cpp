@@ -64,8 +64,11 @@ std::string read_file(const fs::path& p) {
 
 }  // namespace
 
+// the two sweeps below (about 20 s together in a release build, 77 s with the sanitisers) run
+// in the release suite only, with the seed scene's (ctest stability.growth_sweeps, label slow);
+// the sanitiser suite covers the same code through the resume test
 TEST_CASE("growth limits meet the linear prediction on a scene without contact",
-          "[stability][growth]") {
+          "[.][growth-sweep]") {
   const cloth::Integrator integrator =
       GENERATE(cloth::Integrator::explicit_euler, cloth::Integrator::symplectic_euler,
                cloth::Integrator::midpoint, cloth::Integrator::rk4);
@@ -90,7 +93,7 @@ TEST_CASE("growth limits meet the linear prediction on a scene without contact",
   CHECK(sum == Approx(1.0).epsilon(1e-12));
 }
 
-TEST_CASE("the growth limit does not depend on the scenario's duration", "[stability][growth]") {
+TEST_CASE("the growth limit does not depend on the scenario's duration", "[.][growth-sweep]") {
   test::TempDir a("growth-short"), b("growth-long");
   StabilityOptions o = growth_options(a.str());
   o.integrators = {cloth::Integrator::symplectic_euler};
@@ -106,7 +109,7 @@ TEST_CASE("the growth limit does not depend on the scenario's duration", "[stabi
 }
 
 // the seed scene (25 x 25, 20 s): release builds only, ctest label "slow"
-TEST_CASE("a limit set by contact is labelled so", "[.][growth-seed]") {
+TEST_CASE("a limit set by contact is labelled so", "[.][growth-sweep]") {
   // imex-euler treats the springs implicitly: away from the sphere its limit is the damping's
   // (the prediction); the state in contact is what fails first
   test::TempDir dir("growth-contact");
