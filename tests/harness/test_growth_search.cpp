@@ -155,6 +155,28 @@ TEST_CASE("the growth columns survive a resume", "[stability][growth]") {
   CHECK_THROWS_AS(run_stability(sc, o), UserError);
 }
 
+TEST_CASE("a growth search past its wall-clock budget stops with what it has",
+          "[stability][growth]") {
+  // a budget that every search exceeds once it has judged its first time step: the search
+  // stops there, says so, and keeps that judgement (a bound, not a bracket)
+  Scenario sc = parse_scenario(kFree, "f.toml", {});
+  sc.max_run_seconds = 1e-9;
+  const std::vector<GrowthState> states = growth_states(sc);
+  GrowthSearchOptions o;
+  o.max_seconds = sc.max_run_seconds;
+  const GrowthLimit l = search_growth_limit(sc, sc.engines[0], states, 1e-4, o);
+  INFO(l.cause);
+  CHECK(l.judged == 1);
+  CHECK(l.cause.rfind("timeout after --max-run-seconds 1e-09 s with 1 time steps judged", 0) == 0);
+  CHECK(std::isfinite(l.stable_dt) != std::isfinite(l.first_unstable_dt));
+  // without a budget the same search judges on to a bracket
+  o.max_seconds = 0;
+  const GrowthLimit full = search_growth_limit(sc, sc.engines[0], states, 1e-4, o);
+  CHECK(full.judged > 1);
+  CHECK(std::isfinite(full.stable_dt));
+  CHECK(std::isfinite(full.first_unstable_dt));
+}
+
 TEST_CASE("a mode's spring energy is split by spring kind", "[stability][growth]") {
   const Scenario sc = parse_scenario(kFree, "f.toml", {});
   const cloth::Model model = cloth::build_model(sc.scene);

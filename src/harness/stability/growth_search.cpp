@@ -1,6 +1,7 @@
 #include "harness/stability/growth_search.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <memory>
 
@@ -65,6 +66,9 @@ StateGrowth judge_state(const Scenario& sc, const EngineSpec& e, const cloth::Mo
 /// The verdict on a time step: unstable when a smooth state is; none when no state is smooth.
 enum class Verdict { stable, unstable, nonsmooth };
 
+/// A search that has used its wall-clock budget.
+struct OutOfTime {};
+
 Verdict verdict_of(const std::vector<StateGrowth>& states) {
   bool any_smooth = false;
   for (const StateGrowth& g : states) {
@@ -79,10 +83,21 @@ class GrowthSearch {
  public:
   GrowthSearch(const Scenario& sc, const EngineSpec& e, const std::vector<GrowthState>& states,
                const GrowthSearchOptions& o)
-      : m_sc(sc), m_e(e), m_model(cloth::build_model(sc.scene)), m_states(states), m_o(o) {}
+      : m_sc(sc),
+        m_e(e),
+        m_model(cloth::build_model(sc.scene)),
+        m_states(states),
+        m_o(o),
+        m_started(std::chrono::steady_clock::now()) {}
 
+  /// Judges dt; throws OutOfTime, after the first time step, once the search has taken more
+  /// than its budget.
   Verdict judge(double dt) {
     if (interrupt_requested()) throw Interrupted();
+    if (m_limit.judged > 0 && m_o.max_seconds > 0 &&
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - m_started).count() >
+            m_o.max_seconds)
+      throw OutOfTime();
     ++m_limit.judged;
     m_last = judge_growth(m_sc, m_e, m_model, m_states, dt, m_o, &m_limit.steps);
     const Verdict v = verdict_of(m_last);
@@ -120,7 +135,8 @@ class GrowthSearch {
     }
   }
 
-  GrowthLimit finish() {
+  /// The limit found; timed_out: the search stopped at its budget.
+  GrowthLimit finish(bool timed_out = false) {
     GrowthLimit& l = m_limit;
     const StateGrowth* worst = nullptr;
     for (const StateGrowth& g : m_unstable)
@@ -132,7 +148,7 @@ class GrowthSearch {
       const GrowthState& s = state(worst->label);
       l.mode_energy = mode_energy_by_kind(m_model, s.state.x, l.mode);
     }
-    l.cause = cause();
+    l.cause = timed_out ? timeout_cause() : cause();
     return l;
   }
 
@@ -140,6 +156,14 @@ class GrowthSearch {
   const GrowthState& state(const std::string& label) const {
     return *std::find_if(m_states.begin(), m_states.end(),
                          [&](const GrowthState& s) { return s.label == label; });
+  }
+
+  /// A search stopped by its budget: what it has is a bound, or an unfinished bracket.
+  std::string timeout_cause() const {
+    const std::string c = "timeout after --max-run-seconds " + format_double(m_o.max_seconds) +
+                          " s with " + std::to_string(m_limit.judged) + " time steps judged";
+    if (m_unstable.empty() && m_nonsmooth_dt == 0) return c + ": growth_stable_dt is a lower bound";
+    return c + ": the bracket is unfinished; " + cause();
   }
 
   /// Which states grow at first_unstable_dt: only those in contact, or free ones too.
@@ -177,6 +201,7 @@ class GrowthSearch {
   cloth::Model m_model;
   const std::vector<GrowthState>& m_states;
   GrowthSearchOptions m_o;
+  std::chrono::steady_clock::time_point m_started;
   GrowthLimit m_limit;
   std::vector<StateGrowth> m_last, m_unstable;
   double m_nonsmooth_dt = 0;
@@ -198,8 +223,12 @@ GrowthLimit search_growth_limit(const Scenario& sc, const EngineSpec& engine,
                                 const std::vector<GrowthState>& states, double dt_start,
                                 const GrowthSearchOptions& o) {
   GrowthSearch search(sc, engine, states, o);
-  search.bracket(dt_start);
-  search.bisect();
+  try {
+    search.bracket(dt_start);
+    search.bisect();
+  } catch (const OutOfTime&) {
+    return search.finish(true);
+  }
   return search.finish();
 }
 

@@ -41,6 +41,8 @@ struct GrowthSearchOptions {
   double rel_tol = 0.02;                  // bisection until first_unstable / stable - 1 <= this
   double dt_max = 0.1;                    // s, no dt above this is tried
   int max_halvings = 10;                  // halvings below the start before giving up
+  double max_seconds = 0;                 // s of wall clock the search may take before it
+                                          // stops as a timeout (0: no limit)
 };
 
 /// The growth at one state and dt.
@@ -79,7 +81,9 @@ std::vector<StateGrowth> judge_growth(const Scenario& sc, const EngineSpec& engi
                                       const std::vector<GrowthState>& states, double dt,
                                       const GrowthSearchOptions& o, long long* steps);
 
-/// Searches the limit of engine (its integrator set) from dt_start. Throws Interrupted when
+/// Searches the limit of engine (its integrator set) from dt_start. A search past
+/// o.max_seconds stops before its next time step, keeps the bracket it has (stable_dt a lower
+/// bound, first_unstable_dt an upper one) and says so in the cause. Throws Interrupted when
 /// asked to stop, std::invalid_argument for a perturbation below cloth::kMinPerturbation.
 GrowthLimit search_growth_limit(const Scenario& sc, const EngineSpec& engine,
                                 const std::vector<GrowthState>& states, double dt_start,

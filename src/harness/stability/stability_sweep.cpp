@@ -182,6 +182,7 @@ void measure_growth(const Scenario& sc, const StabilityConfig& c,
   go.growth_tol = o.growth_tol;
   go.rel_tol = o.rel_tol;
   go.dt_max = o.dt_max;
+  go.max_seconds = sc.max_run_seconds;
   const double start = std::isfinite(row.predicted_dt) ? row.predicted_dt : c.engine.dt;
   row.growth = search_growth_limit(sc, c.engine, states, start, go);
   if (std::isfinite(row.growth.stable_dt) && std::isfinite(row.growth.first_unstable_dt) &&
