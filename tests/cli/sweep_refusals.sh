@@ -41,5 +41,28 @@ echo x >"$work/plain-file"
 expect 2 "$clothbench" merge "$work/merged" "$work/plain-file"
 has stderr "$work/plain-file: a file, not the folder of a sharded sweep" "merge of a plain file"
 
+# a sweep's wall-clock budget is part of what it is: --resume and merge keep to one budget
+quick=(-q -j 1 -e custom-rk4 -i symplectic-euler --method blowup)
+expect 0 "$clothbench" stability "$chain" -o "$work/budget" "${quick[@]}" --max-run-seconds 100
+expect 2 "$clothbench" stability "$chain" -o "$work/budget" "${quick[@]}" --resume
+has stderr "--max-run-seconds 100 then" "stability --resume without the budget"
+expect 0 "$clothbench" stability "$chain" -o "$work/budget" "${quick[@]}" --resume \
+  --max-run-seconds 100
+expect 0 "$clothbench" accuracy "$chain" -o "$work/acc-budget" -q -j 1 --halvings 1 \
+  -e custom-rk4 -i symplectic-euler --max-run-seconds 100
+expect 2 "$clothbench" accuracy "$chain" -o "$work/acc-budget" -q -j 1 --halvings 1 \
+  -e custom-rk4 -i symplectic-euler --resume
+has stderr "cannot resume: the folder holds a sweep of another --max-run-seconds" \
+  "accuracy --resume without the budget"
+for k in 1 2; do
+  budget=()
+  [ "$k" -eq 1 ] && budget=(--max-run-seconds 100)
+  expect 0 "$clothbench" stability "$chain" -o "$work/shard$k" "${quick[@]}" -i rk4 \
+    --shard "$k/2" "${budget[@]}"
+done
+expect 2 "$clothbench" merge "$work/merged-budget" "$work/shard1" "$work/shard2"
+has stderr "they are shards of different sweeps" "merge of shards with two budgets"
+
 [ "$failures" -eq 0 ] || exit 1
-echo "every lying map is refused before any work; merge names a missing folder and a file"
+echo "every lying map is refused before any work; merge names a missing folder and a file;"
+echo "a budget is part of a sweep for --resume and merge"

@@ -110,7 +110,10 @@ std::string stability_sidecar_text(const Scenario& sc, const StabilityOptions& o
          "#   --dt-max " +
          format_double(o.dt_max) + " --rel-tol " + format_double(o.rel_tol) + " --method " +
          stability_method_name(o.method) + " --perturbation " + format_double(o.perturbation) +
-         " --growth-tol " + format_double(o.growth_tol) + "\n" + scenario_to_toml(sc);
+         " --growth-tol " + format_double(o.growth_tol) +
+         (sc.max_run_seconds > 0 ? " --max-run-seconds " + format_double(sc.max_run_seconds)
+                                 : std::string()) +
+         "\n" + scenario_to_toml(sc);
 }
 
 void check_stability_resumable(const std::string& dir, const Scenario& sc,

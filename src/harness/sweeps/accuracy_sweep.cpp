@@ -27,6 +27,14 @@ namespace clothbench {
 
 namespace {
 
+/// A sweep's scenario.toml without its budget line (budget_line), if it has one.
+std::string without_budget(const std::string& toml) {
+  const std::string mark = "# --max-run-seconds ";
+  if (toml.rfind(mark, 0) != 0) return toml;
+  const size_t end = toml.find('\n');
+  return end == std::string::npos ? "" : toml.substr(end + 1);
+}
+
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -87,15 +95,16 @@ void prepare_folder(const Scenario& sc, const AccuracyOptions& o, AccuracyPlan& 
   make_directories(o.out_dir);
   const std::string dir = o.out_dir + "/";
   record_shard(dir, o.shard, shard_plan, o.resume);
-  const std::string toml = scenario_to_toml(sc);
+  const std::string toml = budget_line(sc) + scenario_to_toml(sc);
   if (o.resume) {
     const std::map<std::string, CsvRecord> earlier_refs = read_references(dir + "reference.csv");
     const std::string earlier = read_text(dir + "scenario.toml");
     if (!earlier.empty() && earlier != toml)
-      throw UserError(dir +
-                      "scenario.toml: cannot resume: the folder holds a sweep of "
-                      "another scenario (or other --set overrides); run without "
-                      "--resume or choose another output folder");
+      throw UserError(dir + "scenario.toml: cannot resume: the folder holds a sweep of " +
+                      (without_budget(earlier) == scenario_to_toml(sc)
+                           ? "another --max-run-seconds"
+                           : "another scenario (or other --set overrides)") +
+                      "; run without --resume or choose another output folder");
     check_resumable_reference(dir + "reference.csv", earlier_refs, plan.reference);
     if (!plan.grids.empty())
       check_resumable_reference(dir + "reference.csv", earlier_refs, plan.resolution_reference);

@@ -16,6 +16,12 @@ std::string integrator_label(std::optional<cloth::Integrator> integrator) {
   return integrator ? cloth::integrator_name(*integrator) : "";
 }
 
+std::string budget_line(const Scenario& sc) {
+  if (!(sc.max_run_seconds > 0)) return "";
+  return "# --max-run-seconds " + format_double(sc.max_run_seconds) +
+         ": the wall-clock budget of every engine run of this sweep (not a scenario key)\n";
+}
+
 std::string rerun_overrides(const EngineSpec& e) {
   std::string s;
   if (e.kind == EngineKind::custom)

@@ -20,6 +20,11 @@ EngineSpec with_integrator_and_dt(const EngineSpec& e, std::optional<cloth::Inte
 /// engine).
 std::string integrator_label(std::optional<cloth::Integrator> integrator);
 
+/// The line a sweep's record gives its wall-clock budget (--max-run-seconds, never a scenario
+/// key), so that --resume and merge keep to one budget: "" when sc has none, else a TOML
+/// comment line ending in a newline.
+std::string budget_line(const Scenario& sc);
+
 /// The --set overrides that make `clothbench run` repeat a sweep row on the scenario file.
 std::string rerun_overrides(const EngineSpec& e);
 
