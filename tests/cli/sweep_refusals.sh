@@ -63,6 +63,28 @@ done
 expect 2 "$clothbench" merge "$work/merged-budget" "$work/shard1" "$work/shard2"
 has stderr "they are shards of different sweeps" "merge of shards with two budgets"
 
+# a command owns what it writes: a sweep into a run's folder keeps the run's record ...
+expect 0 "$clothbench" run "$chain" -o "$work/with-run" -q
+cp "$work/with-run/run.json" "$work/run.json.before"
+expect 0 "$clothbench" stability "$chain" -o "$work/with-run" "${quick[@]}"
+cmp -s "$work/with-run/run.json" "$work/run.json.before" ||
+  fail "stability into a run's folder rewrote its run.json"
+# ... a map into a stability shard's folder is refused and leaves its shard record ...
+expect 2 "$clothbench" map "$chain" -o "$work/shard1" -q -j 1 -e custom-rk4 \
+  -i symplectic-euler --vary cloth.damping=0,1
+has stderr "shard1/shard.toml: the folder holds a shard of a stability sweep" "map into a shard"
+[ -s "$work/shard1/shard.toml" ] || fail "map into a stability shard deleted its shard.toml"
+# ... and a merge into an earlier map's folder is refused, naming what it would leave stale
+expect 0 "$clothbench" map "$chain" -o "$work/old-map" -q -j 1 -e custom-rk4 \
+  -i symplectic-euler --vary cloth.damping=0,1
+expect 0 "$clothbench" stability "$chain" -o "$work/shard2" "${quick[@]}" -i rk4 --shard 2/2 \
+  --max-run-seconds 100
+expect 2 "$clothbench" merge "$work/old-map" "$work/shard1" "$work/shard2"
+has stderr "old-map holds .*, which a merged stability sweep would not replace" \
+  "merge into an old map"
+expect 0 "$clothbench" merge "$work/merged-ok" "$work/shard1" "$work/shard2"
+expect 0 "$clothbench" merge "$work/merged-ok" "$work/shard1" "$work/shard2"
+
 [ "$failures" -eq 0 ] || exit 1
 echo "every lying map is refused before any work; merge names a missing folder and a file;"
-echo "a budget is part of a sweep for --resume and merge"
+echo "a budget is part of a sweep for --resume and merge; a command owns what it writes"

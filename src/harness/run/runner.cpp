@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <ctime>
+#include <filesystem>
 #include <sstream>
 #include <stdexcept>
 
@@ -437,6 +438,12 @@ std::string run_info_json(const std::string& members) {
 }
 
 void write_run_info(const std::string& dir) {
+  // a run's record stays (it says what its engines' self-collision was): a sweep into a run's
+  // folder adds its results beside the run's
+  std::error_code ec;
+  if (std::filesystem::exists(dir + "frames.csv", ec) &&
+      std::filesystem::exists(dir + "run.json", ec))
+    return;
   AtomicFile info(dir + "run.json");
   info.write(run_info_json());
   info.commit();

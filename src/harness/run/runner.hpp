@@ -103,7 +103,8 @@ double final_drape_coefficient(const RunResult& result, const EngineRun& run);
 /// (JSON members, each line ending ",\n") go before the facts.
 std::string run_info_json(const std::string& members = "");
 
-/// Writes run_info_json() to dir/run.json atomically (sweep folders; dir ends with '/').
+/// Writes run_info_json() to dir/run.json atomically (sweep folders; dir ends with '/'),
+/// unless dir holds a run (frames.csv) with its run.json, which stays.
 void write_run_info(const std::string& dir);
 
 }  // namespace clothbench

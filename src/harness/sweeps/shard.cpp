@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <set>
 
 #include "harness/io/csv_reader.hpp"
 #include "harness/io/csv_writer.hpp"
@@ -212,6 +213,32 @@ void require_every_unit(const std::vector<ShardFolder>& shards,
                   "): rerun that shard with --resume to finish it");
 }
 
+/// Refuses an output folder that holds results this merge would not replace (another
+/// command's tables and records, an earlier map's points/, a shard's record) and clears the growing
+/// modes an earlier merge left there, so that the folder then holds this merge alone.
+void prepare_merge_folder(const std::string& out_dir, const ShardPlan& plan) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::is_directory(out_dir, ec)) return;
+  std::set<std::string> own(plan.sidecars.begin(), plan.sidecars.end());
+  own.insert({plan.table, "run.json", "stability_modes", ".clothbench.lock"});
+  // results are tables, records and a map's points; other folders (logs, the shards
+  // themselves, as scripts/slurm-sweep lays them out) may stay
+  const std::set<std::string> results = {".csv", ".toml", ".json", ".npy", ".html"};
+  for (const auto& e : fs::directory_iterator(out_dir)) {
+    const std::string name = e.path().filename().string();
+    const bool result =
+        e.is_directory() ? name == "points" : results.count(e.path().extension().string()) > 0;
+    if (result && own.count(name) == 0)
+      throw UserError("merge: the output folder " + out_dir + " holds " + name +
+                      (e.is_directory() ? "/" : "") + ", which a merged " + plan.command +
+                      " sweep would not replace (another command's results); choose a new or "
+                      "empty folder");
+  }
+  fs::remove_all(fs::path(out_dir) / "stability_modes", ec);
+  if (ec) throw UserError(out_dir + "/stability_modes: cannot clear it: " + ec.message());
+}
+
 }  // namespace
 
 /// A stability sweep's growing modes (stability_modes/ROW.npy, ROW the row's index in the
@@ -247,6 +274,7 @@ MergeSummary merge_shards(const std::string& out_dir, const std::vector<std::str
   require_every_unit(shards, by_unit);
 
   // the files of the unsharded sweep: the table in its order, the sidecar, run.json
+  prepare_merge_folder(out_dir, plan);
   make_directories(out_dir);
   CsvWriter table(out_dir + "/" + plan.table, header);
   size_t rows = 0;
@@ -297,6 +325,20 @@ std::string join_fields(const std::vector<std::string>& fields, size_t count) {
 void record_shard(const std::string& dir, const Shard& s, const ShardPlan& p, bool resume) {
   const std::string path = dir + kShardFile, earlier = read_text(path);
   const std::string now = s.sharded() ? shard_text(s, p) : std::string();
+  // a shard of another command's sweep is that command's to finish or merge
+  if (!earlier.empty()) {
+    toml::table t;
+    try {
+      t = toml::parse(earlier, path);
+    } catch (const toml::parse_error&) {
+    }
+    const std::string command = t["command"].value_or(std::string());
+    if (command != p.command)
+      throw UserError(path + ": the folder holds a shard of " +
+                      (command.empty() ? std::string("another sweep") : "a " + command + " sweep") +
+                      "; a " + p.command +
+                      " sweep would mix its results with it; choose another output folder");
+  }
   // a folder with no sweep yet resumes as a fresh start, whatever its shard
   const bool fresh = earlier.empty() && !std::filesystem::exists(dir + p.table);
   if (resume && earlier != now && !fresh)
