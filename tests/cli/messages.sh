@@ -22,6 +22,26 @@ has stderr "blowup_strain: must be finite (a number > 0), got inf" "infinite blo
 expect 2 "$clothbench" run "$chain" -q -o "$work/run" --set "cloth.particles=[99999999999,2]"
 has stderr "cloth.particles: too large: at most 10000000 particles in all" "huge integer"
 
+# a damaged baseline (a row deleted, a row given twice) is an error naming file and line,
+# before any run, never a failing gate
+mkdir -p "$work/damaged"
+cp -r "$source/reference/baselines/hanging_chain" "$work/damaged/"
+metrics=$work/damaged/hanging_chain/metrics.csv
+cp "$metrics" "$work/metrics.good"
+grep -v '^custom-rk4,drape_coefficient,' "$work/metrics.good" >"$metrics"
+expect 2 "$clothbench" check -q -b "$work/damaged" "$chain"
+has stderr "hanging_chain/metrics.csv: no row for custom-rk4,drape_coefficient (custom-rk4's rows: lines 2 to" \
+  "baseline with a deleted row"
+lacks stdout "FAIL" "baseline with a deleted row"
+cp "$work/metrics.good" "$metrics"
+sed -n 2p "$work/metrics.good" >>"$metrics"
+expect 2 "$clothbench" check -q -b "$work/damaged" "$chain"
+has stderr "hanging_chain/metrics.csv:$(wc -l <"$metrics"): a second row for custom-rk4,.* (the first is line 2)" \
+  "baseline with a row twice"
+# ... which --update rewrites
+expect 0 "$clothbench" check -q --update -b "$work/damaged" "$chain"
+expect 0 "$clothbench" check -q -b "$work/damaged" "$chain"
+
 # out of memory: a cloth that cannot fit under a 1 GiB address-space limit (not under a
 # sanitizer, which reserves far more address space than that on its own)
 if ldd "$clothbench" 2>/dev/null | grep -q libasan; then

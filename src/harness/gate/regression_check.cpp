@@ -102,10 +102,34 @@ const std::vector<std::string> kMetricsHeader = output_header("baselines/metrics
 const std::vector<std::string> kShapeHeader = output_header("baselines/shape.csv");
 const std::vector<std::string> kStabilityHeader = output_header("baselines/stability.csv");
 
-Metrics read_metrics(const fs::path& p) {
+/// The recorded figures; strict: a row given twice, or an engine without a row for one of
+/// kMetricQuantities (a damaged file, or one from another version), is an error naming the
+/// file and line (--update reads an old baseline leniently: it rewrites it).
+Metrics read_metrics(const fs::path& p, bool strict = true) {
   Metrics m;
-  for (const CsvRecord& r : read_csv(p.string(), kMetricsHeader).records)
-    m[r.text(0) + "/" + r.text(1)] = r.number(2, NAN);
+  std::map<std::string, long> line_of;                 // engine/quantity -> its line
+  std::map<std::string, std::pair<long, long>> lines;  // engine -> its first and last rows' lines
+  for (const CsvRecord& r : read_csv(p.string(), kMetricsHeader).records) {
+    const std::string key = r.text(0) + "/" + r.text(1);
+    if (strict && line_of.count(key))
+      throw UserError(p.string() + ":" + std::to_string(r.line()) + ": a second row for " +
+                      r.text(0) + "," + r.text(1) + " (the first is line " +
+                      std::to_string(line_of[key]) +
+                      "); restore the file or record it again with check --update");
+    line_of[key] = static_cast<long>(r.line());
+    auto [it, added] = lines.try_emplace(r.text(0), r.line(), r.line());
+    it->second.second = r.line();
+    m[key] = r.number(2, NAN);
+  }
+  if (!strict) return m;
+  for (const auto& [engine, span] : lines)
+    for (const std::string& q : kMetricQuantities)
+      if (!m.count(engine + "/" + q))
+        throw UserError(p.string() + ": no row for " + engine + "," + q + " (" + engine +
+                        "'s rows: lines " + std::to_string(span.first) + " to " +
+                        std::to_string(span.second) +
+                        "): the file is damaged or from another version of clothbench; restore "
+                        "it or record it again with check --update");
   return m;
 }
 
@@ -419,6 +443,8 @@ CheckPlan plan_check(const std::string& scenario_path, const CheckOptions& o) {
                     " is missing (record one with clothbench check --update)");
   plan.tol = read_tolerances(tol_path);
   check_tolerance_engines(plan.tol, plan.sc, tol_path);
+  // a damaged baseline is an error before any run, not a failing gate after it
+  if (!o.update && fs::exists(plan.metrics_path())) read_metrics(plan.metrics_path());
   return plan;
 }
 
@@ -456,7 +482,7 @@ CheckRun run_check(const CheckPlan& plan, const CheckOptions& o) {
 /// --update: records the baseline and reports what changed against the previous one.
 std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now, const CheckOptions& o) {
   const Metrics old_metrics =
-      fs::exists(plan.metrics_path()) ? read_metrics(plan.metrics_path()) : Metrics();
+      fs::exists(plan.metrics_path()) ? read_metrics(plan.metrics_path(), false) : Metrics();
   Shapes old_shapes;
   std::string grid_changed;
   try {
