@@ -22,6 +22,11 @@ has stderr "blowup_strain: must be finite (a number > 0), got inf" "infinite blo
 expect 2 "$clothbench" run "$chain" -q -o "$work/run" --set "cloth.particles=[99999999999,2]"
 has stderr "cloth.particles: too large: at most 10000000 particles in all" "huge integer"
 
+# a line of the file that an override made wrong says which overrides were applied
+expect 2 "$clothbench" run "$chain" -q -o "$work/run" --set "cloth.particles=[1,2]"
+has stderr "hanging_chain.toml:[0-9]*: constraint.0.list.0: .* (with --set cloth.particles=\[1,2\] applied)" \
+  "a file line made wrong by an override"
+
 # a damaged baseline (a row deleted, a row given twice) is an error naming file and line,
 # before any run, never a failing gate
 mkdir -p "$work/damaged"

@@ -583,7 +583,15 @@ Scenario parse_scenario(std::string_view toml_text, const std::string& source_na
                             "): " + std::string(e.description()));
   }
   for (const std::string& o : overrides) apply_override(root, o);
-  return read_scenario(root, source_name, only);
+  try {
+    return read_scenario(root, source_name, only);
+  } catch (const ScenarioError& e) {
+    // a line of the file may be wrong only because of an override: say which were applied
+    if (overrides.empty() || e.where().rfind(source_name + ":", 0) != 0) throw;
+    std::string applied;
+    for (const std::string& o : overrides) applied += (applied.empty() ? "" : " ") + ("--set " + o);
+    throw ScenarioError(e.where(), e.key(), e.problem() + " (with " + applied + " applied)");
+  }
 }
 
 Scenario load_scenario(const std::string& path, const std::vector<std::string>& overrides,
