@@ -70,6 +70,10 @@ for f in map.csv map_scenario.toml; do
   cmp "$work/map/$f" "$work/map-merged/$f" || fail "merged $f differs from the unsharded map's"
 done
 refused "different sweeps" "$work/map1" "$work/s2"
+# --resume on the merged map searches nothing again (no points/ appears) and keeps map.csv
+expect 0 "$clothbench" map "$scen" "${vary[@]}" "${pick[@]}" --resume -o "$work/map-merged"
+[ ! -e "$work/map-merged/points" ] || fail "map --resume on a merged map searched its points again"
+cmp "$work/map/map.csv" "$work/map-merged/map.csv" || fail "map --resume changed the merged map.csv"
 
 # accuracy: six rows over two shards; after the merge, --resume on the merged folder fits and
 # recommends without running anything, and every file equals the unsharded sweep's apart from

@@ -4,9 +4,13 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <filesystem>
+#include <map>
+#include <memory>
 #include <mutex>
 #include <sstream>
 
+#include "harness/io/csv_reader.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/text_file.hpp"
 #include "harness/io/user_error.hpp"
@@ -98,6 +102,25 @@ std::vector<StabilityRow> search_point(const MapPoint& p, const MapOptions& o, i
   return run_stability(p.scenario, s);
 }
 
+/// The rows map.csv already holds, by point (its values joined as in shard.toml's units):
+/// what --resume keeps of a finished or merged map, whose points/ may be gone.
+std::map<std::string, std::vector<StabilityRow>> kept_rows(const MapOptions& o) {
+  std::map<std::string, std::vector<StabilityRow>> kept;
+  const std::string path = o.out_dir + "/map.csv";
+  const CsvTable table = read_csv_leniently(path);
+  if (table.header != map_header(o.varied)) return kept;
+  const auto source =
+      std::make_shared<const CsvRecord::Source>(CsvRecord::Source{path, stability_header()});
+  const size_t keys = o.varied.size();
+  for (const CsvRecord& r : table.records) {
+    if (r.size() != table.header.size()) continue;
+    std::vector<std::string> fields(r.fields().begin() + long(keys), r.fields().end());
+    kept[join_fields(r.fields(), keys)].push_back(
+        stability_row(CsvRecord(source, r.line(), std::move(fields))));
+  }
+  return kept;
+}
+
 void write_map_csv(const MapOptions& o, const std::vector<MapRow>& rows) {
   CsvWriter csv(o.out_dir + "/map.csv", map_header(o.varied));
   for (const MapRow& r : rows) {
@@ -131,9 +154,16 @@ std::vector<MapRow> run_map(const ScenarioAtPoint& load, const MapOptions& o) {
   Progress progress(double(points.size()), "points", o.search.progress);
   std::mutex progress_mutex;
   std::vector<std::vector<StabilityRow>> found(points.size());
+  const auto kept = o.search.resume ? kept_rows(o) : decltype(kept_rows(o))();
   run_parallel(int(points.size()), outer, [&](int i) {
     const MapPoint& p = points[size_t(i)];
-    found[size_t(i)] = search_point(p, o, inner);
+    // a point map.csv holds and whose own folder is gone (a merged map) is not searched again
+    const auto k = kept.find(join_fields(p.values, p.values.size()));
+    std::error_code ec;
+    if (k != kept.end() && !std::filesystem::exists(p.dir + "/stability.csv", ec))
+      found[size_t(i)] = k->second;
+    else
+      found[size_t(i)] = search_point(p, o, inner);
     std::string label;
     for (const std::string& s : p.overrides) label += (label.empty() ? "" : " ") + s;
     const std::lock_guard<std::mutex> hold(progress_mutex);
