@@ -41,6 +41,15 @@ echo x >"$work/plain-file"
 expect 2 "$clothbench" merge "$work/merged" "$work/plain-file"
 has stderr "$work/plain-file: a file, not the folder of a sharded sweep" "merge of a plain file"
 
+# a string value is written alike on stdout and in map.csv (a TOML string keeps its quotes,
+# quoted again for CSV), so that map.csv reads back as what was given
+expect 0 "$clothbench" map "$chain" -o "$work/strings" -j 1 -e custom-rk4 -i symplectic-euler \
+  --method blowup --vary 'description="c",d'
+[ "$(cut -d, -f1 "$work/stdout")" = "$(cut -d, -f1 "$work/strings/map.csv")" ] ||
+  fail "string values: stdout $(cut -d, -f1 "$work/stdout" | tr '\n' ' ') but map.csv $(cut -d, -f1 "$work/strings/map.csv" | tr '\n' ' ')"
+/usr/bin/python3 -c 'import csv,sys; v=[r["description"] for r in csv.DictReader(open(sys.argv[1]))]; sys.exit(v != ["\"c\"", "d"])' \
+  "$work/strings/map.csv" || fail "string values: map.csv does not read back as given"
+
 # a sweep's wall-clock budget is part of what it is: --resume and merge keep to one budget
 quick=(-q -j 1 -e custom-rk4 -i symplectic-euler --method blowup)
 expect 0 "$clothbench" stability "$chain" -o "$work/budget" "${quick[@]}" --max-run-seconds 100

@@ -124,7 +124,8 @@ std::map<std::string, std::vector<StabilityRow>> kept_rows(const MapOptions& o) 
 void write_map_csv(const MapOptions& o, const std::vector<MapRow>& rows) {
   CsvWriter csv(o.out_dir + "/map.csv", map_header(o.varied));
   for (const MapRow& r : rows) {
-    for (const std::string& v : r.values) csv.add(v);
+    // a value as written (a TOML string keeps its quotes), quoted for CSV as on stdout
+    for (const std::string& v : r.values) csv.add(csv_field(v));
     for (const std::string& f : stability_fields(r.stability)) csv.add(f);
     csv.end_row();
   }
