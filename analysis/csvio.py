@@ -5,6 +5,7 @@ Each known file has a schema: its required columns, which of them hold text, whi
 Numbers accept what C++ streams print, including nan and inf; an empty numeric field is NaN.
 """
 
+import argparse
 import csv
 import os
 
@@ -13,6 +14,23 @@ import numpy as np
 
 class ReportError(Exception):
     """A problem with the user's input (missing or malformed file): one line, exit code 2."""
+
+
+def message(command, text):
+    """A line to stderr as every clothbench command writes it: 'clothbench: COMMAND: TEXT'."""
+    return f"clothbench: {command}: {text}"
+
+
+class ArgumentParser(argparse.ArgumentParser):
+    """argparse named as the command the user typed ('clothbench report'), whose errors are
+    one line in clothbench's form with exit code 2."""
+
+    def __init__(self, command, **kwargs):
+        super().__init__(prog=f"clothbench {command}", **kwargs)
+        self.command = command
+
+    def error(self, text):
+        self.exit(2, message(self.command, f"{text} (see clothbench {self.command} --help)") + "\n")
 
 
 class Schema:

@@ -14,7 +14,6 @@ vtk: OUTDIR/vtk/<engine>/frame_NNNN.vtp (VTK XML polydata, ASCII) with the point
 OUTDIR defaults to DIR/export. Exit codes: 0 written; 2 bad input (one line on stderr).
 """
 
-import argparse
 import os
 import shutil
 import signal
@@ -28,12 +27,11 @@ if __name__ == "__main__" and not __package__:
 import numpy as np  # noqa: E402
 
 from analysis import trajectory  # noqa: E402
-from analysis.csvio import ReportError  # noqa: E402
+from analysis.csvio import ArgumentParser, ReportError, message  # noqa: E402
 
 
 def parse_args(argv):
-    p = argparse.ArgumentParser(prog="export.py",
-                                description="OBJ or VTK files from a run's trajectories.")
+    p = ArgumentParser("export", description="OBJ or VTK files from a run's trajectories.")
     p.add_argument("dir", metavar="DIR", help="output folder of clothbench run")
     p.add_argument("--format", required=True, choices=["obj", "vtk"])
     p.add_argument("--engine", action="append", metavar="NAME",
@@ -170,10 +168,10 @@ def main(argv=None):
     try:
         return export(parse_args(argv))
     except ReportError as e:
-        print(f"export: error: {e}", file=sys.stderr)
+        print(message("export", e), file=sys.stderr)
         return 2
     except OSError as e:
-        print(f"export: error: {e.filename}: {e.strerror}", file=sys.stderr)
+        print(message("export", f"{e.filename}: {e.strerror}"), file=sys.stderr)
         return 2
     except KeyboardInterrupt as e:
         return 143 if e.args == (signal.SIGTERM,) else 130

@@ -14,7 +14,6 @@ value: one line on stderr naming the file); 1 internal error (one line; --debug 
 CLOTHBENCH_REPORT_DEBUG=1 prints the traceback).
 """
 
-import argparse
 import math
 import os
 import signal
@@ -27,7 +26,7 @@ if __name__ == "__main__" and not __package__:
     sys.path = [p for p in sys.path if os.path.abspath(p or ".") != _here]
     sys.path.insert(0, os.path.dirname(_here))
 
-from analysis.csvio import ReportError  # noqa: E402
+from analysis.csvio import ArgumentParser, ReportError, message  # noqa: E402
 from analysis.folder import Folder  # noqa: E402
 
 PROG = "report"
@@ -47,8 +46,8 @@ def _positive_number(text):
 
 
 def parse_args(argv):
-    p = argparse.ArgumentParser(
-        prog="report.py",
+    p = ArgumentParser(
+        PROG,
         description="Plots and a self-contained report.html from a clothbench output folder.")
     p.add_argument("dir", metavar="DIR", help="output folder of clothbench run or a sweep")
     p.add_argument("--compare", metavar="DIR2",
@@ -133,7 +132,7 @@ def _refuse_different_scenarios(folders, force):
     if not force:
         raise ReportError(f"{what}; a comparison of different scenes means little "
                           "(--force compares them all the same)")
-    print(f"{PROG}: warning: {what}; compared because of --force", file=sys.stderr)
+    print(message(PROG, f"warning: {what}; compared because of --force"), file=sys.stderr)
 
 
 def _output_folder(args):
@@ -242,7 +241,7 @@ def main(argv=None):
     try:
         return run(argv)
     except ReportError as e:
-        print(f"{PROG}: error: {e}", file=sys.stderr)
+        print(message(PROG, e), file=sys.stderr)
         return 2
     except KeyboardInterrupt as e:
         return 143 if e.args == (signal.SIGTERM,) else 130
@@ -255,8 +254,9 @@ def main(argv=None):
             where = f" at {os.path.basename(tb.tb_frame.f_code.co_filename)}:{tb.tb_lineno}"
             tb = tb.tb_next
         text = " ".join(str(e).split())
-        print(f"{PROG}: internal error: {type(e).__name__}: {text}{where} (a bug in the report; "
-              f"rerun with --debug or {DEBUG_ENV}=1 for the traceback)", file=sys.stderr)
+        print(message(PROG, f"internal error: {type(e).__name__}: {text}{where} (a bug in the "
+                            f"report; rerun with --debug or {DEBUG_ENV}=1 for the traceback)"),
+              file=sys.stderr)
         return 1
 
 

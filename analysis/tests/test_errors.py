@@ -5,6 +5,8 @@ import contextlib
 import io
 import os
 import shutil
+import subprocess
+import sys
 import tempfile
 import unittest
 from unittest import mock
@@ -50,11 +52,26 @@ class BadInput(unittest.TestCase):
         self.assertEqual(result.returncode, 2, f"stdout: {result.stdout}\nstderr: {result.stderr}")
         self.assertNotIn("Traceback", result.stderr)
         self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
-        self.assertTrue(result.stderr.startswith("report: error: "), result.stderr)
+        self.assertTrue(result.stderr.startswith("clothbench: report: "), result.stderr)
         for fragment in fragments:
             self.assertIn(fragment, result.stderr)
         self.assertFalse(os.path.exists(os.path.join(self.out, "report.html")))
         return result.stderr
+
+    def test_option_errors_are_one_line_in_clothbench_form(self):
+        # argparse's own errors too: named as the command the user typed, with no usage block
+        result = rc.run_report(self.run, "--no-such-option")
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertEqual(result.stderr.strip().splitlines(),
+                         ["clothbench: report: unrecognized arguments: --no-such-option "
+                          "(see clothbench report --help)"])
+        export = os.path.join(rc.ROOT, "analysis", "export.py")
+        result = subprocess.run([sys.executable, export, self.run], capture_output=True,
+                                text=True, timeout=60, cwd=rc.ROOT)
+        self.assertEqual(result.returncode, 2, result.stderr)
+        self.assertEqual(result.stderr.strip().splitlines(),
+                         ["clothbench: export: the following arguments are required: --format "
+                          "(see clothbench export --help)"])
 
     def test_tolerance_must_be_a_finite_positive_number(self):
         for bad in ("nan", "inf", "-1", "0", "fast"):
@@ -178,7 +195,7 @@ class InternalError(unittest.TestCase):
         code, err = self.run_main(env={"CLOTHBENCH_REPORT_DEBUG": ""})
         self.assertEqual(code, 1)
         self.assertEqual(len(err.strip().splitlines()), 1, err)
-        self.assertTrue(err.startswith("report: internal error: ZeroDivisionError: float "
+        self.assertTrue(err.startswith("clothbench: report: internal error: ZeroDivisionError: float "
                                        "division by zero"), err)
         self.assertIn("--debug", err)
         self.assertNotIn("Traceback", err)
@@ -210,8 +227,6 @@ class DamagedTrajectory(unittest.TestCase):
     def export(self, index):
         with open(os.path.join(self.tmp, "trajectory", "trajectory.json"), "w") as f:
             f.write(index)
-        import subprocess
-        import sys
         return subprocess.run([sys.executable, os.path.join(rc.ROOT, "analysis", "export.py"),
                                self.tmp, "--format", "obj"], capture_output=True, text=True)
 

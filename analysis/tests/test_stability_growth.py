@@ -196,7 +196,7 @@ class BadModeFiles(unittest.TestCase):
         self.assertEqual(result.returncode, 2, f"stdout: {result.stdout}\nstderr: {result.stderr}")
         self.assertNotIn("Traceback", result.stderr)
         self.assertEqual(len(result.stderr.strip().splitlines()), 1, result.stderr)
-        self.assertTrue(result.stderr.startswith("report: error: "), result.stderr)
+        self.assertTrue(result.stderr.startswith("clothbench: report: "), result.stderr)
         for fragment in fragments:
             self.assertIn(fragment, result.stderr)
         self.assertFalse(os.path.exists(os.path.join(self.out, "report.html")))
