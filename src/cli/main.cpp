@@ -67,7 +67,12 @@ int main(int argc, char** argv) {
     try {
       app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {
-      return app.exit(e) == 0 ? kExitOk : kExitUserError;
+      // --help and --version print as CLI11 does; an error is one line in clothbench's form
+      if (e.get_exit_code() == 0) return app.exit(e);
+      const bool named = argc > 1 && argv[1][0] != '-';
+      std::cerr << "clothbench: " << one_line(e.what()) << " (see clothbench "
+                << (named ? std::string(argv[1]) + " " : std::string()) << "--help)\n";
+      return kExitUserError;
     }
     // the first Ctrl-C stops at the next step; a second one (a step stuck inside an engine)
     // ends the process at once: outputs appear only when complete, so none is half written

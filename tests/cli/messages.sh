@@ -22,6 +22,12 @@ has stderr "blowup_strain: must be finite (a number > 0), got inf" "infinite blo
 expect 2 "$clothbench" run "$chain" -q -o "$work/run" --set "cloth.particles=[99999999999,2]"
 has stderr "cloth.particles: too large: at most 10000000 particles in all" "huge integer"
 
+# an option the parser refuses is one line in clothbench's form, naming the command's --help
+expect 2 "$clothbench" stability "$chain" -q -o "$work/x" --growth-tol -1
+[ "$(wc -l <"$work/stderr")" -eq 1 ] || fail "option error: not one line: $(cat "$work/stderr")"
+has stderr '^clothbench: --growth-tol: expected a finite number > 0, got "-1" (see clothbench stability --help)$' \
+  "option error"
+
 # a line of the file that an override made wrong says which overrides were applied
 expect 2 "$clothbench" run "$chain" -q -o "$work/run" --set "cloth.particles=[1,2]"
 has stderr "hanging_chain.toml:[0-9]*: constraint.0.list.0: .* (with --set cloth.particles=\[1,2\] applied)" \

@@ -128,11 +128,17 @@ TEST_CASE("a limit set by contact is labelled so", "[.][growth-sweep]") {
   CHECK(r.growth.stable_dt < 0.5 * r.predicted_dt);
 }
 
-TEST_CASE("a perturbation below round-off is refused", "[stability][growth]") {
+TEST_CASE("a perturbation below round-off or not small is refused", "[stability][growth]") {
   test::TempDir dir("growth-refused");
   StabilityOptions o = growth_options(dir.str());
   o.perturbation = 1e-13;
   CHECK_THROWS_AS(run_stability(parse_scenario(kFree, "f.toml", {}), o), UserError);
+  CHECK_FALSE(fs::exists(dir.path / "stability.csv"));
+  // ... and so is one that is not small, or not a number
+  for (double bad : {2e-3, 1.0, std::nan("")}) {
+    o.perturbation = bad;
+    CHECK_THROWS_AS(run_stability(parse_scenario(kFree, "f.toml", {}), o), UserError);
+  }
   CHECK_FALSE(fs::exists(dir.path / "stability.csv"));
 }
 

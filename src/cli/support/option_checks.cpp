@@ -97,7 +97,7 @@ void add_growth_options(CLI::App* sub, StabilityOptions& o) {
       ->check(CLI::IsMember({"blowup", "growth", "both"}));
   sub->add_option("--perturbation", o.perturbation,
                   "growth: finite-difference size, relative to the state's scale (positions\n"
-                  "over the cloth's extent, velocities over extent / dt); at least 1e-12")
+                  "over the cloth's extent, velocities over extent / dt); from 1e-12 to 1e-3")
       ->capture_default_str();
   sub->add_option("--growth-tol", o.growth_tol,
                   "growth: a dt is unstable when a perturbation grows faster than the state's\n"

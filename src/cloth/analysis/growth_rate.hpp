@@ -47,6 +47,11 @@ struct MapState {
 /// large as the difference it is to measure.
 constexpr double kMinPerturbation = 1e-12;
 
+/// Largest relative perturbation accepted: above it a perturbation is no longer small (at
+/// 1e-3 of the bounding box's diagonal the particles of a 100 x 100 cloth move by a seventh of
+/// their spacing), and the differences measure the nonlinear map, not its linearisation.
+constexpr double kMaxPerturbation = 1e-3;
+
 /// Options of one growth estimate.
 struct GrowthOptions {
   double perturbation = 1e-7;   // finite-difference size, relative to the state's scale

@@ -42,11 +42,16 @@ void check_options(const StabilityOptions& o) {
   if (!(o.dt_max > 0)) throw UserError("--dt-max: expected a time step > 0");
   if (!(o.rel_tol > 0)) throw UserError("--rel-tol: expected a number > 0");
   if (!(o.growth_tol > 0)) throw UserError("--growth-tol: expected a rate > 0 (1/s)");
-  if (!(o.perturbation >= cloth::kMinPerturbation))
-    throw UserError("--perturbation " + format_double(o.perturbation) +
-                    ": below round-off; expected at least " +
-                    format_double(cloth::kMinPerturbation) +
-                    " (relative to the state's scale; the default is 1e-7)");
+  if (!(o.perturbation >= cloth::kMinPerturbation && o.perturbation <= cloth::kMaxPerturbation))
+    throw UserError(
+        "--perturbation " + format_double(o.perturbation) + ": " +
+        (o.perturbation < cloth::kMinPerturbation ? "below round-off; "
+         : o.perturbation > cloth::kMaxPerturbation
+             ? "not a small perturbation (the growth measured would be the nonlinear map's); "
+             : "") +
+        "expected a number from " + format_double(cloth::kMinPerturbation) + " to " +
+        format_double(cloth::kMaxPerturbation) +
+        " (relative to the state's scale; the default is 1e-7)");
 }
 
 /// Throws UserError naming --dt-max when every run would take more than kMaxSteps steps.
