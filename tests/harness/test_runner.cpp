@@ -497,7 +497,8 @@ TEST_CASE("animation_interval = 0 writes no trajectory and a rerun leaves none s
   CHECK_FALSE(fs::exists(t));
 }
 
-TEST_CASE("a cantilever test writes tests.csv; a run without one leaves none behind", "[runner]") {
+TEST_CASE("a cantilever test writes tests.csv, and a run without one leaves none behind",
+          "[runner]") {
   const clothbench::test::TempDir scratch("runner-tests-csv");
   const fs::path& dir = scratch.path;
   RunOptions o;

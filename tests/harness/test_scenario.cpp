@@ -628,7 +628,7 @@ std::string cantilever_text(const std::string& test, double hold = 0.001) {
 
 }  // namespace
 
-TEST_CASE("[test] cantilever: read, checked against the held platform, written back",
+TEST_CASE("test table, cantilever: read, checked against the held platform, written back",
           "[scenario]") {
   const Scenario s =
       parse_scenario(cantilever_text("[test]\nkind = \"cantilever\"\nedge = 0.0\n"), "c.toml");
@@ -642,7 +642,7 @@ TEST_CASE("[test] cantilever: read, checked against the held platform, written b
   CHECK(parse_scenario(cantilever_text(""), "c.toml").test.kind.empty());
 }
 
-TEST_CASE("[test] refusals name the key and say why", "[scenario]") {
+TEST_CASE("test table: refusals name the key and say why", "[scenario]") {
   const auto message = [](const std::string& text) {
     try {
       parse_scenario(text, "c.toml");
