@@ -115,6 +115,10 @@ SCHEMAS = {
         ["scope", "engine", "integrator", "particles", "dt", "error_final", "wall_s_per_sim_s",
          "tolerance"],
         text=["scope", "engine", "integrator"], keys=["scope"]),
+    # a scenario's [test]: one metric of one engine a row; an undefined value is empty
+    "tests.csv": Schema(
+        ["engine", "metric", "value", "unit"],
+        text=["engine", "metric", "unit"], keys=["engine", "metric", "unit"]),
     "attribution.csv": Schema(
         ["engine", "reference", "matched", "at", "t", "total_rms", "scheme_rms", "model_rms",
          "note"],

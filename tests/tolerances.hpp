@@ -118,4 +118,23 @@ constexpr double kGrowthVsPredictor = 1e-4;
 /// closed forms' own round-off is a few 1e-16 (1e-12 leaves room for the lgamma prefactor).
 constexpr double kStudentTail = 1e-12;
 
+/// The elastica against Euler-Bernoulli at l / c = 0.05: the nonlinear correction is of order
+/// theta^2 ~ (l / c)^6 / 64 ~ 2e-10; RK4's error with 2000 steps is far below it. The test
+/// scales it by (lambda / 0.05)^6 for larger lambda.
+constexpr double kElasticaSmallDeflection = 1e-8;
+/// First variation of the strip's energy at the solved shape, relative to the bending term's:
+/// the midpoint quadrature over 4000 steps errs by O(h^2) ~ 1e-6, the central difference in
+/// eps by round-off ~ 1e-16 / 1e-6; a shape 1% off gives about 1e-2.
+constexpr double kElasticaStationary = 1e-4;
+/// The inversion's bisection stops within 1e-14 in log(l / c); the chord angle's own RK4 error
+/// with 2000 steps is below 1e-10.
+constexpr double kElasticaInverse = 1e-9;
+/// The standards' c = l / 2 at 41.5 degrees: 41.5 is the elastica's chord at l / c = 2 rounded
+/// to 0.05 degree, which moves c by about 2e-4 relative.
+constexpr double kStandardRule = 5e-4;
+/// Peirce's formula and the elastica both tend to the small-deflection inversion
+/// c = l / (8 tan theta)^(1/3) as theta -> 0, each below it by O(theta^2): Peirce's factor
+/// cos(theta / 2)^(1/3) is 1 - theta^2 / 24, 1.3e-3 at 10 degrees; the two differ by less.
+constexpr double kPeirceSmallAngle = 2e-3;
+
 }  // namespace clothbench::tol

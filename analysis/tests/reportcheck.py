@@ -24,6 +24,7 @@ IMAGES_FROM = {
     "frames.csv": ["energy", "strain"],
     "divergence.csv": ["divergence"],
     "snapshots.csv": ["drape", "shadow"],
+    "tests.csv": ["tests"],
     "work_precision.csv": ["work_precision", "convergence"],
     "convergence.csv": ["convergence"],
     "stability.csv": ["stability"],

@@ -496,3 +496,33 @@ TEST_CASE("animation_interval = 0 writes no trajectory and a rerun leaves none s
   write_run(run_small({"animation_interval=0"}), scratch.path.string());
   CHECK_FALSE(fs::exists(t));
 }
+
+TEST_CASE("a cantilever test writes tests.csv, and a run without one leaves none behind",
+          "[runner]") {
+  const clothbench::test::TempDir scratch("runner-tests-csv");
+  const fs::path& dir = scratch.path;
+  RunOptions o;
+  o.progress = false;
+  const Scenario sc = load_scenario(
+      std::string(CLOTHBENCH_SOURCE_DIR) + "/scenarios/fabric/cantilever.toml", {}, {"custom-rk4"});
+  write_run(run_scenario(sc, o), dir.string());
+  const Csv tests = read_csv(dir / "tests.csv");
+  CHECK(tests.header == std::vector<std::string>{"engine", "metric", "value", "unit"});
+  REQUIRE(tests.rows.size() == 6);
+  std::map<std::string, double> value;
+  for (const auto& row : tests.rows) {
+    CHECK(row[0] == "custom-rk4");
+    value[row[1]] = std::stod(row[2]);
+  }
+  // the scene's geometry: 100 mm over the edge; a strip that bent but does not hang
+  CHECK(value["overhang"] == Approx(0.1).epsilon(1e-12));
+  CHECK(value["chord_angle"] > 0);
+  CHECK(value["chord_angle"] < 83.9);
+  CHECK(value["tip_deflection"] < 0.1);
+  // flexural rigidity = areal density x g x c^3 (200 g/m^2, g = 9.8 m/s^2)
+  CHECK(value["flexural_rigidity"] ==
+        Approx(0.2 * 9.8 * std::pow(value["bending_length"], 3)).epsilon(1e-9));
+  // a scenario without [test] owns the file too: the older run's tests.csv goes
+  write_run(run_small(), dir.string());
+  CHECK_FALSE(fs::exists(dir / "tests.csv"));
+}

@@ -614,3 +614,54 @@ TEST_CASE("reference_index finds the reference engine", "[scenario]") {
   s.engines.clear();
   CHECK_THROWS_AS(s.reference_index(), std::invalid_argument);
 }
+
+namespace {
+
+/// A cantilever strip: 5 columns along x from -0.02 to 0.02 m, 2 across; held up to x <= hold.
+std::string cantilever_text(const std::string& test, double hold = 0.001) {
+  return "gravity = [0.0, -9.8, 0.0]\n"
+         "[cloth]\nparticles = [5, 2]\nsize = [0.04, 0.01]\ncenter = [0.0, 0.5, 0.0]\n"
+         "plane = \"xz\"\n"
+         "[[constraint]]\nselect = \"box\"\nmin = [-1.0, 0.0, -1.0]\nmax = [" +
+         std::to_string(hold) + ", 1.0, 1.0]\n" + test + "[[engine]]\nkind = \"custom\"\n";
+}
+
+}  // namespace
+
+TEST_CASE("test table, cantilever: read, checked against the held platform, written back",
+          "[scenario]") {
+  const Scenario s =
+      parse_scenario(cantilever_text("[test]\nkind = \"cantilever\"\nedge = 0.0\n"), "c.toml");
+  CHECK(s.test.kind == "cantilever");
+  CHECK(s.test.edge == 0.0);
+  // the resolved scenario keeps the test
+  const Scenario again = parse_scenario(scenario_to_toml(s), "again.toml");
+  CHECK(again.test.kind == "cantilever");
+  CHECK(again.test.edge == 0.0);
+  // no [test]: none
+  CHECK(parse_scenario(cantilever_text(""), "c.toml").test.kind.empty());
+}
+
+TEST_CASE("test table: refusals name the key and say why", "[scenario]") {
+  const auto message = [](const std::string& text) {
+    try {
+      parse_scenario(text, "c.toml");
+    } catch (const ScenarioError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  // the other kinds are not measured yet
+  CHECK_THAT(message(cantilever_text("[test]\nkind = \"drape\"\n")),
+             Contains("test.kind") && Contains("not yet"));
+  CHECK_THAT(message(cantilever_text("[test]\nkind = \"cantilevr\"\n")), Contains("cantilever"));
+  CHECK_THAT(message(cantilever_text("[test]\nedge = 0.0\n")), Contains("expected a kind"));
+  // a particle on the platform that no constraint holds (the column at x = 0 is left free)
+  CHECK_THAT(message(cantilever_text("[test]\nkind = \"cantilever\"\nedge = 0.005\n", -0.001)),
+             Contains("test.edge") && Contains("particle (2, 0)"));
+  // an edge beyond the tip leaves no overhang
+  CHECK_THAT(message(cantilever_text("[test]\nkind = \"cantilever\"\nedge = 0.5\n", 1.0)),
+             Contains("the overhang"));
+  CHECK_THAT(message(cantilever_text("[test]\nkind = \"cantilever\"\nsize = 1\n")),
+             Contains("unknown key"));
+}

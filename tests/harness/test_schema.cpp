@@ -46,6 +46,7 @@ std::set<KeyId> accepted_keys() {
     add(table, *own);
     add(table, kColliderKeys);
   }
+  add("test", kTestKeys);
   add("engine", kEngineCommonKeys);
   for (const EngineKindInfo& info : engine_kind_table()) add("engine", info.keys, info.name);
   return keys;
@@ -79,6 +80,11 @@ center = [3.0, 0.0, 0.0]
 radius = 0.1
 [[cylinder]]
 center = [0.0, -3.0, 0.0]
+[[constraint]]
+select = "edge:u0"
+[test]
+kind = "cantilever"
+edge = -0.5
 [[engine]]
 name = "custom"
 kind = "custom"

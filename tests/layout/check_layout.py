@@ -8,7 +8,7 @@
    (or the root for reference/), never by its bare name.
 2. Rooms: inside a layer the folders point one way too. The engine's parts:
    model <- forces <- contact <- solvers <- integrators <- analysis; the harness's stages:
-   io <- scenario <- engines <- run <- sweeps <- gate. A folder may include its own headers
+   io <- scenario <- engines <- fabric <- run <- sweeps <- gate. A folder may include its own headers
    and those of a folder before it, never one after it.
 3. Folder size: no source folder under src/ or reference/ holds more than 16 concepts (a
    .hpp/.cpp pair, or a lone .hpp or .cpp, counts one) or more than a third of the C++ lines
@@ -45,7 +45,7 @@ FORBIDDEN_IN_CLOTH = ("toml++/", "btBulletDynamicsCommon.h", "BulletSoftBody/", 
 # headers and those of an earlier room, never a later one's
 ROOMS = {
     "cloth": ["model", "forces", "contact", "solvers", "integrators", "analysis"],
-    "harness": ["io", "scenario", "engines", "run", "sweeps", "stability", "gate"],
+    "harness": ["io", "scenario", "engines", "fabric", "run", "sweeps", "stability", "gate"],
 }
 CPP_SUFFIXES = (".cpp", ".hpp", ".h")
 

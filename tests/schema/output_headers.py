@@ -2,8 +2,8 @@
 """Every CSV file clothbench writes has the header its schema gives (`clothbench schema
 --outputs --format json`), and every file the schema lists is one clothbench writes.
 
-Runs small real commands (run, run --explain, stability, map, accuracy with resolutions and a
-tolerance) into WORK_DIR, then compares the first line of every CSV they wrote with the
+Runs small real commands (run, run --explain, a run with a [test], stability, map, accuracy
+with resolutions and a tolerance) into WORK_DIR, then compares the first line of every CSV they wrote with the
 schema's columns (map.csv: its --vary keys, then the fixed columns). The baseline files are
 the ones recorded in reference/baselines/, which `clothbench check` reads with the same header.
 
@@ -30,6 +30,10 @@ def make_outputs(clothbench, source, work):
     short = ["--set", "duration=0.2"]
     run(clothbench, "run", flag, *short, "-o", f"{work}/run", "--explain",
         "-e", "bullet-deformable-explicit")
+    # a scenario with a [test] writes tests.csv
+    cantilever = os.path.join(source, "scenarios", "fabric", "cantilever.toml")
+    run(clothbench, "run", cantilever, "--set", "duration=0.05", "-o", f"{work}/tests",
+        "-e", "custom-rk4")
     run(clothbench, "stability", chain, "--set", "duration=0.05", "-o", f"{work}/stability",
         "-e", "custom-rk4", "-i", "rk4", "--rel-tol", "0.2")
     varied = ["cloth.damping"]

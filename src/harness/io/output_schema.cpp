@@ -129,7 +129,18 @@ std::vector<OutputFile> run_files() {
 
 // the run's comparisons: each engine against the reference, its shapes, the attribution
 std::vector<OutputFile> comparison_files() {
-  return {{"divergence.csv",
+  return {{"tests.csv",
+           "clothbench run, in the run folder, when the scenario has a [test]",
+           "one metric of the scenario's textile standard test on one engine's final state",
+           {kEngine,
+            {"metric", "text",
+             "cantilever: chord_angle, tip_deflection, overhang, bending_length (the elastica's), "
+             "bending_length_peirce, flexural_rigidity"},
+            {"value", "as unit",
+             "the metric's value; empty when undefined (the run blew up, or "
+             "a chord angle the elastica cannot invert)"},
+            {"unit", "text", "the value's unit: deg, m or N m"}}},
+          {"divergence.csv",
            "clothbench run, in the run folder",
            "one engine other than the reference at one frame both logged",
            {kEngine,

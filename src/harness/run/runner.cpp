@@ -13,6 +13,7 @@
 #include "cloth/forces/spring_forces.hpp"
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/engines/engine_factory.hpp"
+#include "harness/fabric/cantilever_metrics.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/staged_folder.hpp"
@@ -423,6 +424,31 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
   }
 }
 
+/// tests.csv: the [test]'s metrics of every engine's final state (empty values for a run that
+/// did not end stable: its final shape is not a settled strip).
+void write_tests(const RunResult& result, CsvWriter& tests) {
+  const Scenario& sc = result.scenario;
+  const cloth::Model& model = result.model;
+  const double area = sc.scene.mesh ? cloth::mesh_area(*sc.scene.mesh)
+                                    : sc.scene.cloth.size_u * sc.scene.cloth.size_v;
+  const double areal_density = model.mass.sum() / area;
+  for (const EngineRun& run : result.runs) {
+    CantileverMetrics m{};
+    const bool settled = run.stable && !run.snapshots.empty();
+    if (settled)
+      m = cantilever_metrics(model.x0, sc.scene.held, run.snapshots.back(), sc.scene.gravity,
+                             areal_density, sc.test.edge);
+    for (const TestMetric& row : cantilever_rows(m)) {
+      tests.add(run.spec.name).add(row.metric);
+      if (settled && std::isfinite(row.value))
+        tests.add(row.value);
+      else
+        tests.skip();
+      tests.add(row.unit).end_row();
+    }
+  }
+}
+
 }  // namespace
 
 std::string run_info_json(const std::string& members) {
@@ -466,6 +492,12 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   toml.write(scenario_to_toml(result.scenario));
   AtomicFile info(dir + "run.json");
   info.write(run_info_json(self_collision_json(result.scenario)));
+  // the [test]'s metrics, when the scenario has one
+  std::unique_ptr<CsvWriter> tests;
+  if (!result.scenario.test.kind.empty()) {
+    tests = std::make_unique<CsvWriter>(dir + "tests.csv", output_header("tests.csv"));
+    write_tests(result, *tests);
+  }
   std::vector<std::unique_ptr<AtomicFile>> trajectory;
   write_trajectories(result, dir, trajectory);
   // a mesh's triangles, for the report's shapes
@@ -480,6 +512,7 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   summary.commit();
   toml.commit();
   info.commit();
+  if (tests) tests->commit();
   for (auto& f : trajectory) f->commit();
 }
 
@@ -490,6 +523,7 @@ void write_run(const RunResult& result, const std::string& out) {
   StagedFolder staged(out);
   staged.owns("trajectory");  // the new run's, or none: never an older run's beside new CSVs
   staged.owns("mesh.obj");
+  staged.owns("tests.csv");  // the new run's [test] metrics, or none
   try {
     write_run_files(result, staged.path());
   } catch (const UserError& e) {

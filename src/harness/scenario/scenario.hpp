@@ -59,6 +59,15 @@ struct MeshSource {
   bool any() const { return generated || !file.empty(); }
 };
 
+/// A textile standard test the harness measures on every engine's final state ([test]).
+/// kind "cantilever" (ASTM D1388 option A, fixed overhang): the strip lies along +x and every
+/// particle with rest x <= edge is held on all axes by the scene's own [[constraint]]s (the
+/// loader checks it and adds none); the metrics go to tests.csv.
+struct TestSpec {
+  std::string kind;   // "" (no test) or "cantilever"
+  double edge = 0.0;  // m, cantilever: the platform's edge along x
+};
+
 /// Everything a run needs; every key of the scenario file has a field here, and so has the
 /// one run setting of the command line that is not a key (max_run_seconds).
 struct Scenario {
@@ -81,6 +90,7 @@ struct Scenario {
   std::vector<ConstraintSpec> constraints;
   std::vector<HandleSpec> handles;  // scene.handles is filled from these
   std::vector<EngineSpec> engines;
+  TestSpec test;               // [test]; kind "" when the scenario has none
   double max_run_seconds = 0;  // s of wall clock one engine run may take before it stops as
                                // a timeout (--max-run-seconds; 0: no limit; never in a file)
 

@@ -29,13 +29,16 @@ const Keys kTopKeys = {"name",
                        "box",
                        "capsule",
                        "cylinder",
-                       "handle"};
+                       "handle",
+                       "test"};
 const Keys kClothKeys = {"particles",      "size",       "center",        "plane",
                          "particle_mass",  "total_mass", "areal_density", "stiffness",
                          "damping",        "air_drag",   "mesh",          "generate",
                          "self_collision", "thickness",  "self_friction"};
 const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size", "length",
                             "edge_length", "seed",   "center",       "plane"};
+const Keys kTestKeys = {"kind", "edge"};
+const Keys kTestKinds = {"cantilever", "drape", "strip-tensile", "bias-extension"};
 const Keys kStiffnessKeys = {"structural", "shear", "bend"};
 const Keys kConstraintKeys = {"select", "hold", "center", "radius", "list", "name", "min", "max"};
 const Keys kSphereKeys = {"center",   "radius", "restitution", "friction",

@@ -20,6 +20,7 @@
 #include "harness/scenario/engine_refusal.hpp"
 #include "harness/scenario/scenario_overrides.hpp"
 #include "harness/scenario/selection_reader.hpp"
+#include "harness/scenario/test_reader.hpp"
 #include "harness/scenario/toml_reader.hpp"
 
 namespace clothbench {
@@ -555,6 +556,7 @@ Scenario read_scenario(const toml::table& root, const std::string& source,
   s.source = source;
   read_header(r, root, s);
   read_scene(r, root, s);
+  read_test(r, root, s);
   const auto engines = r.tables({root, ""}, "engine");
   read_engines(r, root, engines, s);
   read_reference(r, root, s);

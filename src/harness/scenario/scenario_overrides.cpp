@@ -207,6 +207,11 @@ void apply_override(toml::table& root, const std::string& text) {
     root.insert_or_assign(top, std::move(value));
   } else if (top == "cloth") {
     set_cloth_key(root, part, std::move(value), where);
+  } else if (top == "test") {
+    // test.kind, test.edge: a key of the [test] table (created when the file has none)
+    if (!contains(kTestKeys, part[1])) throw unknown_key(where, part[1], kTestKeys, "test");
+    if (part.size() > 2) throw single_value(where, part, 2);
+    child_table(root, "test", where).insert_or_assign(part[1], std::move(value));
   } else if (const std::optional<Keys> known = entry_keys(top)) {
     toml::node* list = root.get(top);
     const size_t k = entry_index(list ? list->as_array() : nullptr, top, part[1], where);

@@ -147,6 +147,19 @@ void top_keys(std::vector<ScenarioKey>& out) {
           "[[cylinder]]: a rigid cylinder collider, axis along y");
   r.other("engine", "array of tables", "", "none", "at least one",
           "[[engine]]: an engine to run on the scene");
+  r.other("test", "table", "", "none", "",
+          "[test]: a textile standard test measured on every engine's final state (tests.csv)");
+}
+
+void test_keys(std::vector<ScenarioKey>& out) {
+  const TestSpec t;
+  Rows r(out, "test");
+  r.choice("kind", "none (required)", kTestKinds,
+           "the test; only \"cantilever\" is measured so far (ASTM D1388 option A, fixed "
+           "overhang), the others are refused");
+  r.number("edge", "m", t.edge, kAnyNumber,
+           "cantilever: the platform's edge; the strip lies along +x and every particle at rest "
+           "x <= edge must be held on x, y and z by a [[constraint]]");
 }
 
 void generate_keys(std::vector<ScenarioKey>& out) {
@@ -383,6 +396,7 @@ const std::vector<ScenarioKey>& scenario_keys() {
     Rows handle(out, "handle");
     motion_keys(handle, false);
     shape_keys(out);
+    test_keys(out);
     engine_keys(out);
     return out;
   }();
