@@ -118,4 +118,13 @@ constexpr double kGrowthVsPredictor = 1e-4;
 /// closed forms' own round-off is a few 1e-16 (1e-12 leaves room for the lgamma prefactor).
 constexpr double kStudentTail = 1e-12;
 
+/// One step of the mujoco engine against the report's force law: O(10) N forces on O(1) m/s
+/// velocities, evaluated in another order (MuJoCo's tendon Jacobian), a few eps each.
+constexpr double kMujocoRoundOff = 1e-12;  // m/s (and m)
+/// MuJoCo's Euler against the custom symplectic Euler, 1000 steps of the same explicit map
+/// (its tendon damping is explicit) evaluated in another order: round-off of O(1) m
+/// coordinates over 1 s (measured 2.2e-15 m).
+constexpr double kMujocoEulerMatch = 1e-12;          // m
+constexpr double kMujocoEulerMatchVelocity = 1e-10;  // m/s
+
 }  // namespace clothbench::tol

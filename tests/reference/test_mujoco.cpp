@@ -1,0 +1,138 @@
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "cloth/forces/spring_forces.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
+#include "reference/mujoco/mujoco_cloth.hpp"
+#include "test_scenes.hpp"
+#include "tolerances.hpp"
+
+using namespace cloth;
+using namespace clothbench::reference;
+namespace tol = clothbench::tol;
+
+namespace {
+
+/// A mujoco engine with integrator i at step h.
+std::unique_ptr<Simulator> mujoco(const Scene& s, MujocoIntegrator i, double h) {
+  MujocoOptions o;
+  o.integrator = i;
+  return make_mujoco_cloth(o, h, s);
+}
+
+}  // namespace
+
+TEST_CASE("mujoco: free fall follows y0 - g t^2 / 2 with each scheme's known offset", "[mujoco]") {
+  const MujocoIntegrator integrator = GENERATE(from_range(all_mujoco_integrators()));
+  // a cloth without held particles falls rigidly: its tendons stay at rest length
+  Scene s = clothbench::test::small_cloth(4, 500.0, 2.0);
+  s.held.clear();
+  const double g = 9.8, h = 1e-3;
+  const int steps = 1000;
+  auto c = mujoco(s, integrator, h);
+  const double y0 = c->positions().row(1).mean();
+  for (int i = 0; i < steps; ++i) c->step(h);
+  const double t = steps * h;
+  const double exact = y0 - 0.5 * g * t * t;
+  // euler and implicit update v first, then x with the new v: they lead by g h t / 2
+  const double expected = integrator == MujocoIntegrator::rk4 ? exact : exact - 0.5 * g * h * t;
+  INFO(mujoco_integrator_name(integrator));
+  CHECK(c->positions().row(1).mean() == Approx(expected).margin(tol::kFreeFallOffset));
+  CHECK(c->time() == Approx(t));
+}
+
+TEST_CASE("mujoco: a stretched, moving spring's tendon force is the report's", "[mujoco]") {
+  // one Euler step from a stretched, moving state changes the velocity by h f / m exactly
+  const double m = 0.2, k = 300.0, c = 1.5, h = 1e-3;
+  const Scene s = clothbench::test::one_spring(m, k, c);
+  auto e = mujoco(s, MujocoIntegrator::euler, h);
+  Matrix3X x = e->positions(), v = Matrix3X::Zero(3, 2);
+  x.col(1) += Vector3(0.07, -0.03, 0.02);
+  v.col(1) = Vector3(0.4, 0.9, -0.3);
+  e->set_state(x, v, 0.0);
+  const Model model = build_model(s);
+  Matrix3X f = Matrix3X::Zero(3, 2), buf(3, 2);
+  add_spring_forces(model.springs, x, v, f, buf);
+  e->step(h);
+  const Vector3 dv = e->velocities().col(1) - v.col(1);
+  INFO("mujoco dv " << dv.transpose() << ", h f / m " << (h * f.col(1) / m).transpose());
+  CHECK((dv - h * f.col(1) / m).norm() <= tol::kMujocoRoundOff);
+  CHECK((e->positions().col(1) - x.col(1) - h * e->velocities().col(1)).norm() <=
+        tol::kMujocoRoundOff);
+}
+
+TEST_CASE("mujoco: a hanging chain settles where discrete statics put it", "[mujoco]") {
+  const MujocoIntegrator integrator = GENERATE(MujocoIntegrator::euler, MujocoIntegrator::implicit);
+  const int n = 10;
+  const double m = 0.1, k = 100.0, l = 0.1, g = 9.8;
+  const Scene s = clothbench::test::chain(n, m, k, l, 5.0, g);
+  const double h = 1e-3;
+  auto c = mujoco(s, integrator, h);
+  for (int i = 0; i < static_cast<int>(30.0 / h); ++i) c->step(h);
+  const Matrix3X& x = c->positions();
+  INFO(mujoco_integrator_name(integrator));
+  // the spring above particle j carries the j + 1 particles below it: stretch (j + 1) m g / k
+  for (int j = 0; j < n; ++j) {
+    const double stretch = (x.col(j + 1) - x.col(j)).norm() - l;
+    CHECK(stretch == Approx((j + 1) * m * g / k).epsilon(tol::kStaticStretchRelative));
+  }
+}
+
+TEST_CASE("mujoco: a chain oscillates at its analytic lowest eigenfrequency", "[mujoco]") {
+  const MujocoIntegrator integrator = GENERATE(MujocoIntegrator::rk4, MujocoIntegrator::euler);
+  const int n = 10;
+  const double m = 0.1, k = 100.0, l = 0.1;
+  const Scene s = clothbench::test::chain(n, m, k, l, 0.0, 0.0);
+  // fixed at the top, free at the bottom: u_s = sin(s theta), theta = pi / (2n + 1),
+  // omega = 2 sqrt(k / m) sin(theta / 2), s counting particles down from the pin
+  const double theta = M_PI / (2 * n + 1);
+  const double omega = 2.0 * std::sqrt(k / m) * std::sin(theta / 2);
+  const double h = 1e-4, period = 2 * M_PI / omega;
+  auto c = mujoco(s, integrator, h);
+  Matrix3X v = Matrix3X::Zero(3, n + 1);
+  for (int j = 0; j < n; ++j) v(1, j) = 0.01 * std::sin((n - j) * theta);
+  c->set_state(c->positions(), v, 0.0);
+  const double y_rest = c->positions()(1, 0);
+  // time the upward zero crossings of the bottom particle's displacement
+  double previous = 0.0, first = -1.0, last = -1.0;
+  int crossings = 0;
+  for (int i = 0; i < static_cast<int>(6 * period / h); ++i) {
+    c->step(h);
+    const double d = c->positions()(1, 0) - y_rest;
+    if (previous < 0 && d >= 0) {
+      const double t = c->time() - h * d / (d - previous);  // linear interpolation
+      if (first < 0) first = t;
+      last = t;
+      ++crossings;
+    }
+    previous = d;
+  }
+  REQUIRE(crossings >= 5);
+  const double measured = 2 * M_PI * (crossings - 1) / (last - first);
+  INFO(mujoco_integrator_name(integrator)
+       << ": measured " << measured << " rad/s, analytic " << omega);
+  CHECK(measured == Approx(omega).epsilon(tol::kEigenfrequencyRelative));
+}
+
+TEST_CASE("mujoco: euler matches the custom symplectic euler on a small cloth without contact",
+          "[mujoco]") {
+  // damped springs, air drag and wind: every force MuJoCo's Euler treats explicitly
+  Scene s = clothbench::test::small_cloth(5, 200.0, 0.5);
+  s.cloth.air_drag = 0.05;
+  s.wind = {1.0, 0.0, 0.5};
+  const double h = 1e-3;
+  auto mj = mujoco(s, MujocoIntegrator::euler, h);
+  SolverOptions o;
+  o.integrator = Integrator::symplectic_euler;
+  MassSpringCloth custom(s, o);
+  double worst = 0.0;
+  for (int i = 0; i < 1000; ++i) {
+    mj->step(h);
+    custom.step(h);
+    worst = std::max(worst, (mj->positions() - custom.positions()).cwiseAbs().maxCoeff());
+  }
+  INFO("largest position difference over 1 s: " << worst << " m");
+  CHECK(worst <= tol::kMujocoEulerMatch);
+  CHECK((mj->velocities() - custom.velocities()).cwiseAbs().maxCoeff() <=
+        tol::kMujocoEulerMatchVelocity);
+}
