@@ -126,5 +126,11 @@ constexpr double kMujocoRoundOff = 1e-12;  // m/s (and m)
 /// coordinates over 1 s (measured 2.2e-15 m).
 constexpr double kMujocoEulerMatch = 1e-12;          // m
 constexpr double kMujocoEulerMatchVelocity = 1e-10;  // m/s
+/// A cloth resting on MuJoCo's soft contacts: the floor's impulse over 1 s against the weight
+/// times 1 s, once the landing's oscillation (damped by the contact's solref, 0.02 s) is gone.
+constexpr double kMujocoRestingImpulse = 1e-3;
+/// The memory estimate against MuJoCo's own sizes: its dense arrays exactly, the linear
+/// remainder (a few hundred bytes per particle and spring) by a round figure per item.
+constexpr double kMujocoMemoryEstimate = 0.25;
 
 }  // namespace clothbench::tol

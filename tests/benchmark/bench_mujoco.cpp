@@ -25,13 +25,15 @@ double resident_bytes() {
   return kb * 1024.0;
 }
 
-/// Builds the seed scene at n by n (with its sphere when range(1) is 1), steps it 0.2 s at
-/// dt = 1e-3 s (the cloth reaches the sphere at about 0.1 s) and reports the sizes.
+/// Builds the seed scene at n = range(0) by n (with its sphere when range(1) is 1), with the
+/// integrator numbered range(2) (0 euler, 1 rk4, 2 implicit), steps it 0.2 s at dt = 1e-3 s
+/// and reports the sizes.
 void BM_MujocoMemory(benchmark::State& state) {
   const int n = static_cast<int>(state.range(0));
   cloth::Scene scene = cloth::seed_scene(n);
   if (state.range(1) == 0) scene.spheres.clear();
-  const clothbench::reference::MujocoOptions options;
+  clothbench::reference::MujocoOptions options;
+  options.integrator = static_cast<clothbench::reference::MujocoIntegrator>(state.range(2));
   if (const auto refusal = clothbench::reference::mujoco_refusal(options, scene)) {
     state.SkipWithError(refusal->why.c_str());
     return;
@@ -51,7 +53,7 @@ void BM_MujocoMemory(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_MujocoMemory)
-    ->ArgsProduct({{16, 32, 48}, {0, 1}})
+    ->ArgsProduct({{16, 32, 48}, {0, 1}, {0, 2}})
     ->Iterations(1)
     ->Unit(benchmark::kSecond);
 

@@ -1,3 +1,4 @@
+#include <Eigen/LU>
 #include <catch2/catch.hpp>
 #include <cmath>
 
@@ -135,4 +136,92 @@ TEST_CASE("mujoco: euler matches the custom symplectic euler on a small cloth wi
   CHECK(worst <= tol::kMujocoEulerMatch);
   CHECK((mj->velocities() - custom.velocities()).cwiseAbs().maxCoeff() <=
         tol::kMujocoEulerMatchVelocity);
+}
+
+TEST_CASE("mujoco: implicit is backward Euler in the tendon damping only", "[mujoco]") {
+  // one step from a stretched, moving state solves (m I + h c n n^T) dv = h f(x, v): the
+  // damping force's velocity derivative -c n n^T is implicit, the spring force explicit
+  const double m = 0.2, k = 300.0, c = 4.0, h = 1e-2;
+  const Scene s = clothbench::test::one_spring(m, k, c);
+  auto e = mujoco(s, MujocoIntegrator::implicit, h);
+  Matrix3X x = e->positions(), v = Matrix3X::Zero(3, 2);
+  x.col(1) += Vector3(0.07, -0.03, 0.02);
+  v.col(1) = Vector3(0.4, 0.9, -0.3);
+  e->set_state(x, v, 0.0);
+  const Model model = build_model(s);
+  Matrix3X f = Matrix3X::Zero(3, 2), buf(3, 2);
+  add_spring_forces(model.springs, x, v, f, buf);
+  const Vector3 n = (x.col(1) - x.col(0)).normalized();
+  const Eigen::Matrix3d a = m * Eigen::Matrix3d::Identity() + h * c * n * n.transpose();
+  const Vector3 expected = a.lu().solve(h * f.col(1));
+  e->step(h);
+  const Vector3 dv = e->velocities().col(1) - v.col(1);
+  INFO("mujoco dv " << dv.transpose() << ", expected " << expected.transpose() << ", explicit "
+                    << (h * f.col(1) / m).transpose());
+  CHECK((dv - expected).norm() <= tol::kMujocoRoundOff);
+}
+
+TEST_CASE("mujoco: set_state then a step equals the run's own step", "[mujoco]") {
+  const MujocoIntegrator integrator = GENERATE(from_range(all_mujoco_integrators()));
+  const Scene s = clothbench::test::small_cloth(5, 200.0, 0.5);
+  const double h = 1e-3;
+  auto run = mujoco(s, integrator, h);
+  for (int i = 0; i < 100; ++i) run->step(h);
+  auto fresh = mujoco(s, integrator, h);
+  fresh->set_state(run->positions(), run->velocities(), run->time());
+  run->step(h);
+  fresh->step(h);
+  INFO(mujoco_integrator_name(integrator));
+  CHECK((run->positions() - fresh->positions()).cwiseAbs().maxCoeff() <= tol::kMujocoRoundOff);
+  CHECK(fresh->time() == Approx(run->time()));
+}
+
+TEST_CASE("mujoco: a cloth at rest on a floor is held at the margin by its weight", "[mujoco]") {
+  // a 5 x 5 cloth lying flat just above a frictional floor settles on its contacts: the floor's
+  // impulse over the last second equals the weight times that second
+  Scene s = clothbench::test::small_cloth(5, 200.0, 0.5);
+  s.held.clear();
+  cloth::HalfSpace floor;
+  floor.point = {0.0, -0.02, 0.0};
+  floor.friction = 0.5;
+  floor.margin = 0.01;
+  s.shapes.planes.push_back(floor);
+  const double h = 1e-3;
+  auto c = mujoco(s, MujocoIntegrator::euler, h);
+  for (int i = 0; i < 1000; ++i) c->step(h);
+  const Vector3 before = c->contact_impulse();
+  for (int i = 0; i < 1000; ++i) c->step(h);
+  const double weight = 25 * 0.1 * 9.8;
+  CHECK(c->contacts() == 25);
+  CHECK((c->contact_impulse() - before).y() ==
+        Approx(weight * 1.0).epsilon(tol::kMujocoRestingImpulse));
+  // every particle rests in the shell: above the plane, within the margin of it
+  const Eigen::ArrayXd gap = c->positions().row(1).array() + 0.02;
+  CHECK(gap.minCoeff() > 0.0);
+  CHECK(gap.maxCoeff() < floor.margin);
+}
+
+TEST_CASE("mujoco: the memory estimate bounds what MuJoCo allocates", "[mujoco]") {
+  // the seed scene's cloth with its sphere at 12 x 12: the estimate is built from the same
+  // sizes MuJoCo allocates from, so it must be close to the measured model, buffer and stack
+  const MujocoIntegrator integrator = GENERATE(from_range(all_mujoco_integrators()));
+  MujocoOptions o;
+  o.integrator = integrator;
+  const Scene s = seed_scene(12);
+  auto e = make_mujoco_cloth(o, 1e-3, s);
+  const MujocoMeasure m = mujoco_measure(*e);
+  INFO(mujoco_integrator_name(integrator)
+       << ": buffer " << m.buffer_bytes << " estimated " << m.size.buffer_bytes << ", model "
+       << m.model_bytes << " estimated " << m.size.model_bytes);
+  CHECK(m.size.buffer_bytes == Approx(m.buffer_bytes).epsilon(tol::kMujocoMemoryEstimate));
+  CHECK(m.size.model_bytes == Approx(m.model_bytes).epsilon(tol::kMujocoMemoryEstimate));
+  CHECK(m.stack_bytes == Approx(8.0 * double(m.size.stack)));
+}
+
+TEST_CASE("mujoco: a cloth whose dense arrays pass the limit is refused with the reason",
+          "[mujoco]") {
+  const auto refusal = mujoco_refusal(MujocoOptions{}, seed_scene(64));
+  REQUIRE(refusal);
+  CHECK_THAT(refusal->why, Catch::Contains("densely") && Catch::Contains("springs by"));
+  CHECK_FALSE(mujoco_refusal(MujocoOptions{}, seed_scene(25)));
 }
