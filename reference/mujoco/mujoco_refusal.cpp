@@ -44,6 +44,23 @@ std::string gigabytes(double bytes) {
   return buf;
 }
 
+/// Why a model of these sizes does not fit: its dense arrays, named with their sizes.
+std::string memory_reason(const MujocoSize& size, const MujocoOptions& options) {
+  const std::string dofs = std::to_string(size.dofs), rows = std::to_string(size.rows);
+  std::string why = "mujoco: this cloth needs about " + gigabytes(size.total_bytes()) +
+                    " in MuJoCo 2.2.2, more than the engine's limit of " +
+                    gigabytes(kMujocoMemoryLimit) + ": MuJoCo 2.2 stores the tendon Jacobian " +
+                    "densely (" + std::to_string(size.tendons) + " springs by " + dofs +
+                    " degrees of freedom)";
+  if (size.rows > 0)
+    why += ", the colliders' constraint Jacobian (" + rows + " rows by " + dofs + ") and its " +
+           rows + " by " + rows + " matrix";
+  const bool implicit = options.integrator == MujocoIntegrator::implicit;
+  if (implicit)
+    why += ", and its implicit integrator factors a dense " + dofs + " by " + dofs + " matrix";
+  return why + "; use fewer particles" + (implicit ? " or integrator = \"euler\"" : "");
+}
+
 }  // namespace
 
 std::optional<Refusal> mujoco_refusal(const MujocoOptions& options, const cloth::Scene& scene) {
@@ -62,16 +79,11 @@ std::optional<Refusal> mujoco_refusal(const MujocoOptions& options, const cloth:
   // MuJoCo 2.2's dense tendon and constraint arrays grow with the square of the cloth
   const MujocoSize size = mujoco_size(cloth::build_model(scene), options);
   if (size.total_bytes() > kMujocoMemoryLimit)
-    return Refusal{"mujoco: this cloth needs about " + gigabytes(size.total_bytes()) +
-                       " in MuJoCo 2.2.2, more than the engine's limit of " +
-                       gigabytes(kMujocoMemoryLimit) + ": MuJoCo 2.2 stores the tendon " +
-                       "Jacobian densely (" + std::to_string(size.tendons) + " springs by " +
-                       std::to_string(size.dofs) + " degrees of freedom) and, with colliders, " +
-                       "the constraint Jacobian (" + std::to_string(size.rows) + " rows by " +
-                       std::to_string(size.dofs) + ") and its " + std::to_string(size.rows) +
-                       " by " + std::to_string(size.rows) + " matrix; use fewer particles",
+    return Refusal{memory_reason(size, options),
                    {"cloth.particles"},
-                   {}};
+                   options.integrator == MujocoIntegrator::implicit
+                       ? std::vector<std::string>{"integrator"}
+                       : std::vector<std::string>{}};
   return std::nullopt;
 }
 
