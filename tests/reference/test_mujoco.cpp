@@ -4,6 +4,8 @@
 
 #include "cloth/forces/spring_forces.hpp"
 #include "cloth/integrators/mass_spring_cloth.hpp"
+#include "harness/scenario/scenario_error.hpp"
+#include "harness/scenario/scenario_loader.hpp"
 #include "reference/mujoco/mujoco_cloth.hpp"
 #include "test_scenes.hpp"
 #include "tolerances.hpp"
@@ -19,6 +21,25 @@ std::unique_ptr<Simulator> mujoco(const Scene& s, MujocoIntegrator i, double h) 
   MujocoOptions o;
   o.integrator = i;
   return make_mujoco_cloth(o, h, s);
+}
+
+/// One spring (one_spring(m, k, c)) in a mujoco engine with integrator i at step h, set to a
+/// stretched, moving state x, v; f is the custom engine's spring force there.
+struct StretchedSpring {
+  std::unique_ptr<Simulator> engine;
+  Matrix3X x, v, f;
+};
+
+StretchedSpring stretched_spring(double m, double k, double c, MujocoIntegrator i, double h) {
+  const Scene s = clothbench::test::one_spring(m, k, c);
+  StretchedSpring r{mujoco(s, i, h), {}, Matrix3X::Zero(3, 2), Matrix3X::Zero(3, 2)};
+  r.x = r.engine->positions();
+  r.x.col(1) += Vector3(0.07, -0.03, 0.02);
+  r.v.col(1) = Vector3(0.4, 0.9, -0.3);
+  r.engine->set_state(r.x, r.v, 0.0);
+  Matrix3X buf(3, 2);
+  add_spring_forces(build_model(s).springs, r.x, r.v, r.f, buf);
+  return r;
 }
 
 }  // namespace
@@ -44,16 +65,8 @@ TEST_CASE("mujoco: free fall follows y0 - g t^2 / 2 with each scheme's known off
 
 TEST_CASE("mujoco: a stretched, moving spring's tendon force is the report's", "[mujoco]") {
   // one Euler step from a stretched, moving state changes the velocity by h f / m exactly
-  const double m = 0.2, k = 300.0, c = 1.5, h = 1e-3;
-  const Scene s = clothbench::test::one_spring(m, k, c);
-  auto e = mujoco(s, MujocoIntegrator::euler, h);
-  Matrix3X x = e->positions(), v = Matrix3X::Zero(3, 2);
-  x.col(1) += Vector3(0.07, -0.03, 0.02);
-  v.col(1) = Vector3(0.4, 0.9, -0.3);
-  e->set_state(x, v, 0.0);
-  const Model model = build_model(s);
-  Matrix3X f = Matrix3X::Zero(3, 2), buf(3, 2);
-  add_spring_forces(model.springs, x, v, f, buf);
+  const double m = 0.2, h = 1e-3;
+  auto [e, x, v, f] = stretched_spring(m, 300.0, 1.5, MujocoIntegrator::euler, h);
   e->step(h);
   const Vector3 dv = e->velocities().col(1) - v.col(1);
   INFO("mujoco dv " << dv.transpose() << ", h f / m " << (h * f.col(1) / m).transpose());
@@ -141,16 +154,8 @@ TEST_CASE("mujoco: euler matches the custom symplectic euler on a small cloth wi
 TEST_CASE("mujoco: implicit is backward Euler in the tendon damping only", "[mujoco]") {
   // one step from a stretched, moving state solves (m I + h c n n^T) dv = h f(x, v): the
   // damping force's velocity derivative -c n n^T is implicit, the spring force explicit
-  const double m = 0.2, k = 300.0, c = 4.0, h = 1e-2;
-  const Scene s = clothbench::test::one_spring(m, k, c);
-  auto e = mujoco(s, MujocoIntegrator::implicit, h);
-  Matrix3X x = e->positions(), v = Matrix3X::Zero(3, 2);
-  x.col(1) += Vector3(0.07, -0.03, 0.02);
-  v.col(1) = Vector3(0.4, 0.9, -0.3);
-  e->set_state(x, v, 0.0);
-  const Model model = build_model(s);
-  Matrix3X f = Matrix3X::Zero(3, 2), buf(3, 2);
-  add_spring_forces(model.springs, x, v, f, buf);
+  const double m = 0.2, c = 4.0, h = 1e-2;
+  auto [e, x, v, f] = stretched_spring(m, 300.0, c, MujocoIntegrator::implicit, h);
   const Vector3 n = (x.col(1) - x.col(0)).normalized();
   const Eigen::Matrix3d a = m * Eigen::Matrix3d::Identity() + h * c * n * n.transpose();
   const Vector3 expected = a.lu().solve(h * f.col(1));
@@ -225,4 +230,29 @@ TEST_CASE("mujoco: a cloth whose dense arrays pass the limit is refused with the
   CHECK_THAT(refusal->why, Catch::Contains("densely") && Catch::Contains("springs by") &&
                                Catch::Contains("constraint Jacobian"));
   CHECK_FALSE(mujoco_refusal(MujocoOptions{}, seed_scene(25)));
+}
+
+TEST_CASE("mujoco: the scenario loader reads its keys and refuses what it cannot model",
+          "[mujoco][scenario]") {
+  const std::string head =
+      "duration = 0.01\n[cloth]\nparticles = [4, 4]\n[[sphere]]\ncenter = [0, 0, 0]\n"
+      "radius = 0.5\n";
+  const std::string engine = "[[engine]]\nname = \"m\"\nkind = \"mujoco\"\n";
+  const clothbench::Scenario s = clothbench::parse_scenario(
+      head + engine +
+          "integrator = \"implicit\"\nmargin = 0.02\nfriction = 0.3\nsolref = [0.01, 0.5]\n"
+          "solimp = [0.8, 0.9, 0.002]\ncone = \"elliptic\"\n",
+      "m.toml");
+  const MujocoOptions& o = s.engines.at(0).mujoco;
+  CHECK(o.integrator == MujocoIntegrator::implicit);
+  CHECK(o.margin == 0.02);
+  CHECK(o.friction == 0.3);
+  CHECK(o.solref == std::array<double, 2>{0.01, 0.5});
+  CHECK(o.solimp == std::array<double, 3>{0.8, 0.9, 0.002});
+  CHECK(o.elliptic);
+  // restitution and an explicit self_collision are refused when the scenario loads
+  CHECK_THROWS_AS(clothbench::parse_scenario(head + "restitution = 0.5\n" + engine, "r.toml"),
+                  clothbench::ScenarioError);
+  CHECK_THROWS_WITH(clothbench::parse_scenario(head + engine + "self_collision = true\n", "s.toml"),
+                    Catch::Contains("mujoco cannot keep a cloth's layers apart"));
 }
