@@ -10,6 +10,11 @@
 /// moving colliders are mocap bodies put on their path at every step's start; MuJoCo gives
 /// mocap bodies no velocity, so a spring to a handle is damped as if the handle stood still,
 /// and a moving collider drags nothing by friction.
+///
+/// set_state writes qpos and qvel of the slide joints, the time and the mocap bodies' poses,
+/// and clears the constraint solver's warm start (qacc_warmstart), so that the next step is
+/// a function of the state alone; held axes and handle particles have no joint and stay where
+/// the scene puts them, whatever x says there.
 
 #include <memory>
 #include <optional>
