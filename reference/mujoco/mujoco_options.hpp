@@ -15,8 +15,10 @@ enum class MujocoIntegrator {
   euler,    ///< semi-implicit Euler: v += h a(x, v), then x += h v; implicit in joint damping
             ///< only, which this model has none of (spring damping lives in the tendons)
   rk4,      ///< classic fourth-order Runge-Kutta
-  implicit  ///< implicit in velocity: (M - h dF/dv) dv = h F, with dF/dv of the velocity-
-            ///< dependent forces only (tendon damping); the spring stiffness stays explicit
+  implicit  ///< implicit in velocity: (M - h D) dv = h F, D the tendon damping's velocity
+            ///< derivative within each particle's own dofs only (2.2.2 keeps D in M's
+            ///< sparsity, and every particle is its own body: the -c n n^T coupling between
+            ///< a spring's two ends is dropped); the spring stiffness stays explicit
 };
 
 /// "euler", "rk4" or "implicit".
