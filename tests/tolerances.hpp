@@ -136,5 +136,19 @@ constexpr double kStandardRule = 5e-4;
 /// c = l / (8 tan theta)^(1/3) as theta -> 0, each below it by O(theta^2): Peirce's factor
 /// cos(theta / 2)^(1/3) is 1 - theta^2 / 24, 1.3e-3 at 10 degrees; the two differ by less.
 constexpr double kPeirceSmallAngle = 2e-3;
+/// One step of the mujoco engine against the report's force law: O(10) N forces on O(1) m/s
+/// velocities, evaluated in another order (MuJoCo's tendon Jacobian), a few eps each.
+constexpr double kMujocoRoundOff = 1e-12;  // m/s (and m)
+/// MuJoCo's Euler against the custom symplectic Euler, 1000 steps of the same explicit map
+/// (its tendon damping is explicit) evaluated in another order: round-off of O(1) m
+/// coordinates over 1 s (measured 2.2e-15 m).
+constexpr double kMujocoEulerMatch = 1e-12;          // m
+constexpr double kMujocoEulerMatchVelocity = 1e-10;  // m/s
+/// A cloth resting on MuJoCo's soft contacts: the floor's impulse over 1 s against the weight
+/// times 1 s, once the landing's oscillation (damped by the contact's solref, 0.02 s) is gone.
+constexpr double kMujocoRestingImpulse = 1e-3;
+/// The memory estimate against MuJoCo's own sizes: its dense arrays exactly, the linear
+/// remainder (a few hundred bytes per particle and spring) by a round figure per item.
+constexpr double kMujocoMemoryEstimate = 0.25;
 
 }  // namespace clothbench::tol

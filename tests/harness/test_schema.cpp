@@ -97,6 +97,10 @@ dt = 1e-3
 name = "bullet-softbody"
 kind = "bullet-softbody"
 dt = 1e-3
+[[engine]]
+name = "mujoco"
+kind = "mujoco"
+dt = 1e-3
 )";
 
 /// The same with a generated mesh for its cloth, for the keys of [cloth.generate].

@@ -5,6 +5,7 @@
 #include "cloth/integrators/mass_spring_cloth.hpp"
 #include "reference/bullet/bullet_deformable.hpp"
 #include "reference/bullet/bullet_softbody.hpp"
+#include "reference/mujoco/mujoco_cloth.hpp"
 
 namespace clothbench {
 
@@ -19,6 +20,8 @@ std::unique_ptr<cloth::Simulator> make_engine(const EngineSpec& spec, const clot
       return reference::make_bullet_deformable(spec.bullet, own);
     case EngineKind::bullet_softbody:
       return reference::make_bullet_softbody(spec.bullet, spec.dt, own);
+    case EngineKind::mujoco:
+      return reference::make_mujoco_cloth(spec.mujoco, spec.dt, own);
   }
   throw std::logic_error("make_engine: an engine kind without a case");
 }

@@ -30,7 +30,15 @@ const std::vector<EngineKindInfo>& engine_kind_table() {
        true,
        false,
        "0 by construction (bullet-softbody books its energy balance as dissipated)",
-       {"stiffness", "klst", "iterations"}}};
+       {"stiffness", "klst", "iterations"}},
+      // tendon dampers booked at the new state's power, as bullet-deformable's
+      {EngineKind::mujoco,
+       "mujoco",
+       false,
+       false,
+       true,
+       "",
+       {"integrator", "margin", "friction", "solref", "solimp", "cone"}}};
   return table;
 }
 

@@ -14,7 +14,8 @@ namespace clothbench {
 enum class EngineKind {
   custom,             ///< the custom mass-spring cloth (src/cloth), with its integrators
   bullet_deformable,  ///< Bullet's deformable world with the mass-spring force
-  bullet_softbody     ///< Bullet's classic soft body, position-based link projection
+  bullet_softbody,    ///< Bullet's classic soft body, position-based link projection
+  mujoco              ///< MuJoCo 2.2.2: particles as slide-joint bodies, springs as tendons
 };
 
 /// What the harness knows about a kind of engine.
@@ -22,7 +23,7 @@ struct EngineKindInfo {
   EngineKind kind;
   const char* name;         // "custom", "bullet-deformable", "bullet-softbody"
   bool has_integrators;     // the integrator key chooses among cloth::Integrator
-  bool is_bullet;           // built by reference/ (the only code that includes Bullet)
+  bool is_bullet;           // built by reference/bullet/ (the only code that includes Bullet)
   bool energy_gated;        // energy_error measures the time scheme (has a spring damper)
   const char* energy_note;  // why the energy error is not gated ("" when it is)
   std::vector<std::string_view> keys;  // the kind's own [[engine]] keys
@@ -32,7 +33,7 @@ struct EngineKindInfo {
 const std::vector<EngineKindInfo>& engine_kind_table();
 /// The table's row of kind.
 const EngineKindInfo& engine_kind_info(EngineKind kind);
-/// "custom", "bullet-deformable" or "bullet-softbody".
+/// "custom", "bullet-deformable", "bullet-softbody" or "mujoco".
 const char* engine_kind_name(EngineKind kind);
 /// The kind with that name, if any.
 std::optional<EngineKind> parse_engine_kind(std::string_view name);

@@ -5,6 +5,7 @@
 #include "harness/io/user_error.hpp"
 #include "reference/bullet/bullet_deformable.hpp"
 #include "reference/bullet/bullet_softbody.hpp"
+#include "reference/mujoco/mujoco_refusal.hpp"
 
 namespace clothbench {
 
@@ -13,6 +14,12 @@ const char* const kSoftbodyNoSelfCollision =
     "vertex-face contact only between two bodies, and its cluster self-collision flag turns "
     "soft-soft collision off; set self_collision = false here, or leave it out (a cloth's "
     "self_collision = true is then noted as not available for this engine)";
+
+const char* const kMujocoNoSelfCollision =
+    "mujoco cannot keep a cloth's layers apart: the adapter excludes particle-particle contacts "
+    "(contype 1, conaffinity 0), since MuJoCo 2.2.2 would need a geom pair per particle pair; "
+    "set self_collision = false here, or leave it out (a cloth's self_collision = true is then "
+    "noted as not available for this engine)";
 
 const char* self_collision_name(SelfCollision s) {
   switch (s) {
@@ -28,8 +35,8 @@ const char* self_collision_name(SelfCollision s) {
 
 SelfCollision self_collision_of(const EngineSpec& spec, const cloth::ClothParams& cloth) {
   if (!spec.self_collision.value_or(cloth.self_collision)) return SelfCollision::off;
-  return spec.kind == EngineKind::bullet_softbody ? SelfCollision::not_available
-                                                  : SelfCollision::on;
+  const bool has = spec.kind != EngineKind::bullet_softbody && spec.kind != EngineKind::mujoco;
+  return has ? SelfCollision::on : SelfCollision::not_available;
 }
 
 std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
@@ -47,6 +54,13 @@ std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
       if (spec.self_collision.value_or(false))
         return reference::Refusal{kSoftbodyNoSelfCollision, {}, {"self_collision"}};
       return reference::softbody_refusal(spec.bullet, spec.dt, scene);
+    case EngineKind::mujoco: {
+      if (spec.self_collision.value_or(false))
+        return reference::Refusal{kMujocoNoSelfCollision, {}, {"self_collision"}};
+      cloth::Scene own = scene;
+      own.cloth.self_collision = false;
+      return reference::mujoco_refusal(spec.mujoco, own);
+    }
   }
   throw std::logic_error("engine_refusal: an engine kind without a case");
 }

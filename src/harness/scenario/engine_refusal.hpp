@@ -15,11 +15,14 @@ namespace clothbench {
 /// Why an explicit self_collision = true on a bullet-softbody engine is refused.
 extern const char* const kSoftbodyNoSelfCollision;
 
+/// Why an explicit self_collision = true on a mujoco engine is refused.
+extern const char* const kMujocoNoSelfCollision;
+
 /// Whether an engine keeps the cloth's layers apart.
 enum class SelfCollision {
   off,           ///< neither the engine nor the cloth asks for it
   on,            ///< asked for, and the engine does it
-  not_available  ///< the cloth asks for it and the engine cannot (bullet-softbody)
+  not_available  ///< the cloth asks for it and the engine cannot (bullet-softbody, mujoco)
 };
 
 /// "off", "on" or "not available" (as run.json and summary.csv write it).

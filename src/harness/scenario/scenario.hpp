@@ -12,6 +12,7 @@
 #include "cloth/solvers/solver_options.hpp"
 #include "harness/scenario/engine_kind.hpp"
 #include "reference/bullet/bullet_options.hpp"
+#include "reference/mujoco/mujoco_options.hpp"
 
 namespace clothbench {
 
@@ -45,6 +46,7 @@ struct EngineSpec {
   double dt = 1e-3;                    // s
   cloth::SolverOptions solver;         // kind = custom
   reference::BulletOptions bullet;     // kind = bullet-*
+  reference::MujocoOptions mujoco;     // kind = mujoco
   std::optional<bool> self_collision;  // the engine's own setting; unset: the cloth's
 };
 

@@ -7,6 +7,7 @@
 #include "cloth/model/scene.hpp"
 #include "cloth/solvers/solver_options.hpp"
 #include "reference/bullet/bullet_options.hpp"
+#include "reference/mujoco/mujoco_options.hpp"
 
 namespace clothbench {
 
@@ -70,6 +71,8 @@ const Keys kSelections = {"corners", "edge:u0", "edge:u1", "edge:v0", "edge:v1",
 const Keys kShapes = names_of(cloth::all_mesh_shapes(), cloth::mesh_shape_name);
 const Keys kSoftbodyStiffness =
     names_of(reference::all_softbody_stiffnesses(), reference::softbody_stiffness_name);
+const Keys kMujocoIntegrators =
+    names_of(reference::all_mujoco_integrators(), reference::mujoco_integrator_name);
 const Keys kNewtonMethods = names_of(cloth::all_newton_methods(), cloth::newton_method_name);
 const Keys kLinearSolvers = names_of(cloth::all_linear_solvers(), cloth::linear_solver_name);
 const Keys kCgForcings = names_of(cloth::all_cg_forcings(), cloth::cg_forcing_name);

@@ -43,6 +43,8 @@ extern const Keys kPlanes;
 extern const Keys kSelections;
 extern const Keys kShapes;  // [cloth.generate] shape
 extern const Keys kSoftbodyStiffness;
+/// The mujoco engine's integrators.
+extern const Keys kMujocoIntegrators;
 extern const Keys kNewtonMethods;
 extern const Keys kLinearSolvers;
 extern const Keys kCgForcings;

@@ -224,6 +224,23 @@ void read_line_search_keys(const Reader& r, const At& at, cloth::SolverOptions& 
           "the linearized step resolves contacts after the step") == contact_mode_name(true);
 }
 
+/// The mujoco engine's options; unset margin and friction stay the scene's.
+void read_mujoco_options(const Reader& r, const At& at, reference::MujocoOptions& o) {
+  o.integrator = *reference::parse_mujoco_integrator(r.choice(
+      at, "integrator", reference::mujoco_integrator_name(o.integrator), kMujocoIntegrators));
+  if (at.table.get("margin")) o.margin = r.number(at, "margin", 0.0, kPositive);
+  if (at.table.get("friction")) o.friction = r.number(at, "friction", 0.0, kNonNegative);
+  // [time constant (s), damping ratio]
+  o.solref = r.number_pair(at, "solref", o.solref, kPositive);
+  const cloth::Vector3 imp =
+      r.vec3(at, "solimp", cloth::Vector3(o.solimp[0], o.solimp[1], o.solimp[2]));
+  if (!(imp[0] > 0 && imp[0] < 1 && imp[1] > 0 && imp[1] < 1 && imp[2] > 0))
+    r.fail(at.table.get("solimp"), at.key("solimp"),
+           "expected [d0, dwidth, width] with d0 and dwidth in (0, 1) and width > 0 m");
+  o.solimp = {imp[0], imp[1], imp[2]};
+  o.elliptic = r.choice(at, "cone", "pyramidal", {"pyramidal", "elliptic"}) == "elliptic";
+}
+
 /// The options of e's kind, read from t.
 void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
   switch (e.kind) {
@@ -271,6 +288,9 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
       o.iterations = r.integer(at, "iterations", o.iterations, 1);
       break;
     }
+    case EngineKind::mujoco:
+      read_mujoco_options(r, at, e.mujoco);
+      break;
   }
 }
 
@@ -283,6 +303,8 @@ EngineSpec read_engine(const Reader& r, const toml::table& t, int index) {
   if (t.get("self_collision")) e.self_collision = r.boolean(at, "self_collision", false);
   if (e.self_collision.value_or(false) && e.kind == EngineKind::bullet_softbody)
     r.fail(t.get("self_collision"), at.key("self_collision"), kSoftbodyNoSelfCollision);
+  if (e.self_collision.value_or(false) && e.kind == EngineKind::mujoco)
+    r.fail(t.get("self_collision"), at.key("self_collision"), kMujocoNoSelfCollision);
   read_engine_options(r, at, e);
   return e;
 }
@@ -542,10 +564,12 @@ void refuse_thin_rest_shape(const Reader& r, const toml::table& root, const Scen
 /// A warning for each engine that runs without the self-collision the cloth asks for.
 void note_self_collision_unavailable(Scenario& s) {
   for (const EngineSpec& e : s.engines)
-    if (s.scene.cloth.self_collision && !e.self_collision && e.kind == EngineKind::bullet_softbody)
+    if (s.scene.cloth.self_collision && !e.self_collision &&
+        self_collision_of(e, s.scene.cloth) == SelfCollision::not_available)
       s.warnings.push_back("engine " + e.name +
-                           ": cloth.self_collision = true is not available in bullet-softbody; "
-                           "it runs without (run.json says so) and its crossings are counted");
+                           ": cloth.self_collision = true is not available in " +
+                           engine_kind_name(e.kind) +
+                           "; it runs without (run.json says so) and its crossings are counted");
 }
 
 Scenario read_scenario(const toml::table& root, const std::string& source,

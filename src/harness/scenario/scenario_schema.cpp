@@ -354,6 +354,24 @@ void custom_engine_keys(std::vector<ScenarioKey>& out) {
             "xpbd: sweeps per substep; projective: local/global iterations per step");
 }
 
+/// The mujoco engine's keys.
+void mujoco_engine_keys(std::vector<ScenarioKey>& out) {
+  const reference::MujocoOptions m;
+  Rows r(out, "engine", engine_kind_name(EngineKind::mujoco));
+  r.choice("integrator", quoted(reference::mujoco_integrator_name(m.integrator)),
+           kMujocoIntegrators,
+           "MuJoCo's integrator (implicit: in the damping only, the springs stay explicit)");
+  r.number("margin", "m", "each collider's margin", kPositive,
+           "contact shell of every collider (particles are spheres of half the smallest)");
+  r.number("friction", "1", "each collider's friction", kNonNegative,
+           "Coulomb coefficient of every collider");
+  r.other("solref", "array of 2 numbers", "s, 1", "[0.02, 1]", "each > 0",
+          "MuJoCo's contact solref: time constant and damping ratio");
+  r.other("solimp", "array of 3 numbers", "1, 1, m", "[0.9, 0.95, 0.001]",
+          "d0, dwidth in (0, 1), width > 0", "MuJoCo's contact solimp");
+  r.choice("cone", "\"pyramidal\"", {"pyramidal", "elliptic"}, "MuJoCo's friction cone");
+}
+
 void engine_keys(std::vector<ScenarioKey>& out) {
   const EngineSpec e;
   Rows r(out, "engine");
@@ -363,7 +381,7 @@ void engine_keys(std::vector<ScenarioKey>& out) {
   r.number("dt", "s", e.dt, kPositive, "time step; frame_interval must be a whole multiple of it");
   r.other("self_collision", "boolean", "", "the cloth's self_collision", "true or false",
           "this engine's self-contact, overriding the cloth's; true is refused on "
-          "bullet-softbody, which has none");
+          "bullet-softbody and mujoco, which have none");
   custom_engine_keys(out);
   const reference::BulletOptions b;
   Rows d(out, "engine", engine_kind_name(EngineKind::bullet_deformable));
@@ -382,6 +400,7 @@ void engine_keys(std::vector<ScenarioKey>& out) {
            "link stiffness: matched to the spring constant at dt, or klst for every link");
   s.number("klst", "1", b.klst, kUnitInterval, "stiffness = \"klst\": Bullet's link stiffness");
   s.integer("iterations", b.iterations, 1, kNoMax, "position-solver iterations per step");
+  mujoco_engine_keys(out);
 }
 
 }  // namespace

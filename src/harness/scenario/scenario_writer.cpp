@@ -42,6 +42,16 @@ std::string vec3(const cloth::Vector3& v) {
   return vec({v.x(), v.y(), v.z()});
 }
 
+/// The keys of a mujoco engine (margin and friction only when they replace the scene's).
+void write_mujoco_options(std::ostream& o, const reference::MujocoOptions& m) {
+  o << "integrator = " << toml_string(reference::mujoco_integrator_name(m.integrator)) << "\n";
+  if (m.margin) o << "margin = " << toml_double(*m.margin) << "  # m\n";
+  if (m.friction) o << "friction = " << toml_double(*m.friction) << "\n";
+  o << "solref = " << vec({m.solref[0], m.solref[1]}) << "  # s, 1\n"
+    << "solimp = " << vec({m.solimp[0], m.solimp[1], m.solimp[2]}) << "  # 1, 1, m\n"
+    << "cone = " << toml_string(m.elliptic ? "elliptic" : "pyramidal") << "\n";
+}
+
 /// A motion's key: velocity (when allowed and there is no path) or path.
 void write_motion(std::ostream& o, const cloth::Motion& m, bool velocity_key) {
   if (m.path.empty()) {
@@ -218,6 +228,8 @@ std::string scenario_to_toml(const Scenario& s) {
         << "\n"
         << "klst = " << d(e.bullet.klst) << "\n"
         << "iterations = " << e.bullet.iterations << "\n";
+    } else if (e.kind == EngineKind::mujoco) {
+      write_mujoco_options(o, e.mujoco);
     }
   }
   return o.str();
