@@ -30,7 +30,15 @@ const std::vector<EngineKindInfo>& engine_kind_table() {
        true,
        false,
        "0 by construction (bullet-softbody books its energy balance as dissipated)",
-       {"stiffness", "klst", "iterations"}}};
+       {"stiffness", "klst", "iterations"}},
+      // its dampers are the program's: the harness books what the program reports
+      {EngineKind::external,
+       "external",
+       false,
+       false,
+       false,
+       "not gated (an external engine books its own dissipation, which the harness cannot check)",
+       {"command", "step_timeout"}}};
   return table;
 }
 

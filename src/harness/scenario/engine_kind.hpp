@@ -14,7 +14,8 @@ namespace clothbench {
 enum class EngineKind {
   custom,             ///< the custom mass-spring cloth (src/cloth), with its integrators
   bullet_deformable,  ///< Bullet's deformable world with the mass-spring force
-  bullet_softbody     ///< Bullet's classic soft body, position-based link projection
+  bullet_softbody,    ///< Bullet's classic soft body, position-based link projection
+  external            ///< the user's own program, by protocol (docs/external-engines.md)
 };
 
 /// What the harness knows about a kind of engine.

@@ -47,12 +47,23 @@ std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
       if (spec.self_collision.value_or(false))
         return reference::Refusal{kSoftbodyNoSelfCollision, {}, {"self_collision"}};
       return reference::softbody_refusal(spec.bullet, spec.dt, scene);
+    case EngineKind::external:
+      // protocol version 1 carries no self-contact
+      if (self_collision_of(spec, scene.cloth) == SelfCollision::on)
+        return reference::Refusal{
+            "self-collision is not available on external engines (protocol version 1 carries no "
+            "self-contact); set self_collision = false on the engine",
+            {"cloth.self_collision"},
+            {"self_collision"}};
+      return std::nullopt;
   }
   throw std::logic_error("engine_refusal: an engine kind without a case");
 }
 
 void require_engine_can_model(const EngineSpec& spec, const cloth::Scene& scene,
                               const std::string& context) {
+  if (spec.kind == EngineKind::external && !reference::external_allowed())
+    throw UserError(reference::external_not_allowed_message(spec.name));
   if (const auto refusal = engine_refusal(spec, scene))
     throw UserError("engine " + spec.name + (context.empty() ? "" : " " + context) + ": " +
                     refusal->why);

@@ -12,6 +12,7 @@
 #include "cloth/solvers/solver_options.hpp"
 #include "harness/scenario/engine_kind.hpp"
 #include "reference/bullet/bullet_options.hpp"
+#include "reference/external/external_options.hpp"
 
 namespace clothbench {
 
@@ -42,10 +43,11 @@ struct HandleSpec {
 struct EngineSpec {
   std::string name;  // unique within the scenario
   EngineKind kind = EngineKind::custom;
-  double dt = 1e-3;                    // s
-  cloth::SolverOptions solver;         // kind = custom
-  reference::BulletOptions bullet;     // kind = bullet-*
-  std::optional<bool> self_collision;  // the engine's own setting; unset: the cloth's
+  double dt = 1e-3;                     // s
+  cloth::SolverOptions solver;          // kind = custom
+  reference::BulletOptions bullet;      // kind = bullet-*
+  reference::ExternalOptions external;  // kind = external
+  std::optional<bool> self_collision;   // the engine's own setting; unset: the cloth's
 };
 
 /// Where a mesh cloth comes from: an OBJ file (cloth.mesh) or a generated shape
