@@ -166,7 +166,7 @@ hold = "xyz"
 name = "custom"
 kind = "custom"
 integrator = "symplectic-euler"
-dt = 1e-3
+dt = 2e-4
 [[engine]]
 name = "mine"
 kind = "external"

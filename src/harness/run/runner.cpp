@@ -136,6 +136,16 @@ void finish_run(EngineRun& run, const cloth::Simulator& sim, const cloth::Model&
   run.final_static_residual = static_residual(model, sim.time(), sim.positions(), sim.velocities());
 }
 
+/// Advances progress by a frame of steps; the label carries the simulated time, so that a slow
+/// engine shows how far it has come.
+void show_frame(Progress& progress, const Scenario& sc, const EngineSpec& spec,
+                const cloth::Simulator& sim, long long steps) {
+  char label[96];
+  std::snprintf(label, sizeof label, "%s  t = %.2f / %.2f s", spec.name.c_str(), sim.time(),
+                sc.duration);
+  progress.advance(double(steps), label);
+}
+
 /// The engine of spec on sc's scene; null when it cannot start (an external program that fails
 /// to run or to answer its handshake), with run then a failed run of the initial state alone.
 std::unique_ptr<cloth::Simulator> start_engine(const Scenario& sc, const EngineSpec& spec,
@@ -233,13 +243,7 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
       }
     }
     log_frame(f, run.stable);
-    if (progress && progress->live()) {
-      // the label carries the simulated time: a slow engine shows how far it has come
-      char label[96];
-      std::snprintf(label, sizeof label, "%s  t = %.2f / %.2f s", spec.name.c_str(), sim->time(),
-                    sc.duration);
-      progress->advance(double(steps_per_frame), label);
-    }
+    if (progress && progress->live()) show_frame(*progress, sc, spec, *sim, steps_per_frame);
     const bool last = f == frames || !run.stable;
     if (last || (frames_per_snapshot > 0 && f % frames_per_snapshot == 0)) snapshot();
   }
