@@ -46,3 +46,5 @@ void BM_ExternalInProcess(benchmark::State& state) {
 BENCHMARK(BM_ExternalInProcess)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
 }  // namespace
+
+BENCHMARK_MAIN();
