@@ -2,9 +2,10 @@
 # Issue 32's user engine by protocol, end to end: the example Python engine
 # (examples/external/python) runs only when allowed; beside the custom engine's symplectic Euler
 # it ends within round-off of it; stability, accuracy, check and report run on it.
-# Usage: external_engines.sh CLOTHBENCH SOURCE_DIR WORK_DIR
+# The C++ example engine runs the same scene through the command line too.
+# Usage: external_engines.sh CLOTHBENCH SOURCE_DIR WORK_DIR CPP_EXAMPLE_ENGINE
 set -u
-clothbench=$1 source=$2 work=$3
+clothbench=$1 source=$2 work=$3 cpp_engine=${4:-}
 source "$(dirname "$0")/expect.sh"
 scenario=$source/examples/external/seed_no_contact.toml
 short=(--set duration=0.2 --quiet)
@@ -28,6 +29,18 @@ rms=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "final_rms_vs_refer
                $1 == "python-symplectic-euler" { print $c }' "$work/stdout")
 awk -v r="$rms" 'BEGIN { exit !(r != "" && r + 0 < 1e-9) }' ||
   fail "python engine vs custom symplectic Euler: final RMS '$rms' m, expected < 1e-9 m"
+
+# the C++ example in place of the Python one: round-off as well
+[ -x "$cpp_engine" ] || fail "no C++ example engine given: $cpp_engine"
+expect 0 "$clothbench" run "$scenario" -o "$work/cpp" --allow-external \
+  --set "engine.python-symplectic-euler.command=[\"$cpp_engine\"]" "${short[@]}"
+rms=$(awk -F, '$1 == "python-symplectic-euler" { print $7 }' "$work/stdout")
+awk -v r="$rms" 'BEGIN { exit !(r != "" && r + 0 < 1e-9) }' ||
+  fail "C++ engine vs custom symplectic Euler: final RMS '$rms' m, expected < 1e-9 m"
+
+# no shipped scenario runs a program
+! grep -rl 'kind *= *"external"' "$source/scenarios" >/dev/null ||
+  fail "a shipped scenario names an external engine: $(grep -rl 'kind *= *"external"' "$source/scenarios")"
 
 # allowed by the environment
 CLOTHBENCH_ALLOW_EXTERNAL=1 expect 0 "$clothbench" run "$scenario" -o "$work/env" "${short[@]}"
