@@ -197,8 +197,11 @@ TEST_CASE("A failing external engine fails its own run only", "[external]") {
   CHECK(r.runs[0].frames.size() == 11);
   CHECK(r.runs[1].stable == (std::string(c.mode) == "good"));
   CHECK_THAT(r.runs[1].cause, Catch::Contains(c.cause));
-  // the runner asks for a whole frame (10 steps of 1 ms) at a time
-  if (std::string(c.mode) == "good") CHECK(r.runs[1].counters.steps == 100);
+  // the runner asks for a whole frame (10 steps of 1 ms) in one request: 10 requests in all
+  if (std::string(c.mode) == "good") {
+    CHECK(r.runs[1].counters.steps == 100);
+    CHECK(r.runs[1].counters.force_evals == 10);
+  }
 }
 
 TEST_CASE("An external engine runs only when allowed", "[external]") {

@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """An external engine that breaks the protocol in the way its argument names, at the first
 step request (tests/reference/test_external_engine.cpp). Before that it answers the handshake
-and the model as a good engine does; "good" answers every step with the cloth at rest.
+and the model as a good engine does; "good" answers every step with the cloth at rest,
+counting step requests as force evaluations.
 
 Modes: good, crash, hang, garbage, wrong-count, nan, early-exit, error, bad-version, noisy."""
 import os
@@ -28,13 +29,14 @@ def send(kind, payload=b""):
 
 
 def state(t, x, count, nan=False):
+    """A state at rest; its force-evaluation count is the number of step requests so far."""
     v = [0.0] * len(x)
     if nan:
         x = [float("nan")] * len(x)
-    return struct.pack("<ddqq", t, 0.0, -1, count) + struct.pack("<%dd" % (2 * len(x)), *(x + v))
+    return struct.pack("<ddqq", t, 0.0, requests, count) + struct.pack("<%dd" % (2 * len(x)), *(x + v))
 
 
-x0, t, P = [], 0.0, 0
+x0, t, P, requests = [], 0.0, 0, 0
 while True:
     kind, payload = receive()
     if kind == 1:
@@ -48,6 +50,7 @@ while True:
         if kind == 3:
             steps, dt = struct.unpack("<qd", payload)
             t += steps * dt
+            requests += 1
         if mode == "crash":
             print("misbehaving_engine: about to crash on purpose", file=sys.stderr, flush=True)
             os.abort()
