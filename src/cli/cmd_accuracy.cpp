@@ -111,6 +111,7 @@ Command add_accuracy_command(CLI::App& app) {
       ->allow_extra_args(false);
   add_shard_option(accuracy, o.shard);
   add_max_run_seconds(accuracy, a->max_run_seconds);
+  add_allow_external(accuracy);
   accuracy->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {accuracy, [a] { return execute_accuracy(*a); }, true};
 }

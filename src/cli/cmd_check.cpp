@@ -156,6 +156,7 @@ Command add_check_command(CLI::App& app) {
                     "seed of the ensemble members' perturbations (default 0: the recorded "
                     "members; another seed draws new ones, to measure the false-alarm rate)");
   add_max_run_seconds(check, o.max_run_seconds);
+  add_allow_external(check);
   check->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {check, [a] { return execute_check(*a); }};
 }

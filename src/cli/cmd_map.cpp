@@ -155,6 +155,7 @@ Command add_map_command(CLI::App& app) {
   add_growth_options(map, s);
   add_shard_option(map, a->options.shard);
   add_max_run_seconds(map, a->max_run_seconds);
+  add_allow_external(map);
   map->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {map, [a] { return execute_map(*a); }, true};
 }

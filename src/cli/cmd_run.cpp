@@ -9,6 +9,7 @@
 #include "commands.hpp"
 #include "exit_codes.hpp"
 #include "harness/io/output_lock.hpp"
+#include "harness/io/toml_text.hpp"
 #include "harness/run/attribution.hpp"
 #include "harness/run/runner.hpp"
 #include "support/option_checks.hpp"
@@ -28,10 +29,21 @@ struct RunArgs {
   double max_run_seconds = 0;  // s, 0: no limit
 };
 
+/// --explain: the program each external engine starts, one line each on stderr.
+void explain_external_engines(const Scenario& sc) {
+  for (const EngineSpec& e : sc.engines) {
+    if (e.kind != EngineKind::external) continue;
+    std::cerr << "engine " << e.name << " runs the external program:";
+    for (const std::string& word : e.external.command) std::cerr << ' ' << toml_string(word);
+    std::cerr << " (step_timeout = " << e.external.step_timeout << " s)\n";
+  }
+}
+
 int execute_run(RunArgs a) {
   Scenario sc = load_or_seed(a.scenario_path, a.overrides, a.engines);
   sc.max_run_seconds = a.max_run_seconds;
   if (a.explain) add_matched_engines(sc, a.engines);
+  if (a.explain) explain_external_engines(sc);
   if (a.out.empty()) a.out = "out/" + sc.name;
   refuse_overwriting_input(a.scenario_path, a.out, "scenario.toml");
   const OutputLock lock(a.out);
@@ -74,12 +86,14 @@ Command add_run_command(CLI::App& app) {
          "override a scenario key, e.g. cloth.damping=0 or engine.custom-rk4.dt=2e-4 (repeatable)")
       ->allow_extra_args(false);
   add_max_run_seconds(run, a->max_run_seconds);
+  add_allow_external(run);
   run->add_flag("--explain", a->explain,
                 "for each Bullet engine also run the custom engine with its time scheme and dt "
                 "(custom-as-<name>: imex-euler for bullet-deformable's explicit mode, "
                 "implicit-euler for its implicit mode) and write attribution.csv, which splits "
                 "the Bullet engine's distance from the reference into scheme_rms (reference vs "
-                "that engine) and model_rms (that engine vs Bullet)");
+                "that engine) and model_rms (that engine vs Bullet); for each external engine, "
+                "show the program it runs");
   run->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   run->footer(
       "Exit status: 0 when every engine ran (an unstable run is a result), 2 for bad input, 70 "

@@ -80,6 +80,7 @@ Command add_stability_command(CLI::App& app) {
   add_growth_options(stability, o);
   add_shard_option(stability, o.shard);
   add_max_run_seconds(stability, a->max_run_seconds);
+  add_allow_external(stability);
   stability->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {stability, [a] { return execute_stability(*a); }, true};
 }

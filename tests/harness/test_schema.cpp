@@ -101,6 +101,11 @@ dt = 1e-3
 name = "mujoco"
 kind = "mujoco"
 dt = 1e-3
+[[engine]]
+name = "external"
+kind = "external"
+command = ["my-engine"]
+dt = 1e-3
 )";
 
 /// The same with a generated mesh for its cloth, for the keys of [cloth.generate].

@@ -8,6 +8,7 @@
 
 #include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario_format.hpp"
+#include "reference/external/external_options.hpp"
 
 namespace clothbench::cli {
 
@@ -41,6 +42,13 @@ void add_max_run_seconds(CLI::App* sub, double& seconds) {
                   "wall-clock budget of each engine run (s): a run that takes longer stops and\n"
                   "counts as unstable with cause timeout (default: no limit)")
       ->check(positive_number());
+}
+
+void add_allow_external(CLI::App* sub) {
+  sub->add_flag_callback(
+      "--allow-external", [] { ::setenv(reference::kAllowExternalVariable, "1", 1); },
+      "let engines of kind \"external\" start the programs their scenario names (the same as "
+      "CLOTHBENCH_ALLOW_EXTERNAL=1 in the environment)");
 }
 
 void add_integrator_option(CLI::App* sub, std::vector<cloth::Integrator>& integrators,

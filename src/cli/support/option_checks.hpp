@@ -22,6 +22,10 @@ CLI::Validator positive_integer();
 /// Adds --max-run-seconds to sub, stored in seconds.
 void add_max_run_seconds(CLI::App* sub, double& seconds);
 
+/// Adds --allow-external to sub: given, it sets CLOTHBENCH_ALLOW_EXTERNAL=1 for this process,
+/// which lets a scenario's kind = "external" engines start their programs.
+void add_allow_external(CLI::App* sub);
+
 /// Adds --integrator,-i to sub: repeatable, parsed into integrators (a name that is not an
 /// integrator's is a UserError listing them); its help lists the names from cloth's own table.
 void add_integrator_option(CLI::App* sub, std::vector<cloth::Integrator>& integrators,

@@ -60,7 +60,7 @@ class ScaledMap {
       v(r, p) += m_speed * d[f + k];
     }
     m_sim.set_state(x, v, m_s.t);
-    for (int i = 0; i < m_steps; ++i) m_sim.step(m_dt);
+    m_sim.advance(m_dt, m_steps);
     ++m_products;
     m_contacts.push_back(m_sim.contacts());
     // read back the free axes, scaled

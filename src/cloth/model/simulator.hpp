@@ -24,12 +24,26 @@ struct Counters {
   std::int64_t self_contact_tests = 0;      // self-contact narrow-phase pair tests
 };
 
+/// Thrown by an engine that cannot go on for a reason of its own (an external engine's process
+/// crashed, hung, or broke the protocol): the run fails with this message, other runs go on.
+struct EngineFailure : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
 /// One engine running one scene. Particle order, masses and units are the scene's.
 class Simulator {
  public:
   virtual ~Simulator() = default;
   /// Advances the state by dt seconds.
   virtual void step(double dt) = 0;
+  /// Advances the state by steps steps of dt seconds each, as steps calls of step(dt) (the
+  /// default); an engine behind a process boundary does them in one request.
+  virtual void advance(double dt, int steps) {
+    for (int s = 0; s < steps; ++s) step(dt);
+  }
+  /// Whether the runner should step this engine in batches (advance) between its checks
+  /// rather than one step at a time (true for an engine that pays per request).
+  virtual bool prefers_batches() const { return false; }
   /// 3 by #P positions (m).
   virtual const Matrix3X& positions() const = 0;
   /// 3 by #P velocities (m/s).

@@ -2,10 +2,13 @@
 
 #include <stdexcept>
 
+#include "harness/io/user_error.hpp"
+
 #include "cloth/integrators/mass_spring_cloth.hpp"
 #include "reference/bullet/bullet_deformable.hpp"
 #include "reference/bullet/bullet_softbody.hpp"
 #include "reference/mujoco/mujoco_cloth.hpp"
+#include "reference/external/external_engine.hpp"
 
 namespace clothbench {
 
@@ -22,6 +25,10 @@ std::unique_ptr<cloth::Simulator> make_engine(const EngineSpec& spec, const clot
       return reference::make_bullet_softbody(spec.bullet, spec.dt, own);
     case EngineKind::mujoco:
       return reference::make_mujoco_cloth(spec.mujoco, spec.dt, own);
+    case EngineKind::external:
+      if (!reference::external_allowed())
+        throw UserError(reference::external_not_allowed_message(spec.name));
+      return std::make_unique<reference::ExternalEngine>(spec.external, own, spec.dt);
   }
   throw std::logic_error("make_engine: an engine kind without a case");
 }

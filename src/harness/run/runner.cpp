@@ -111,6 +111,24 @@ class ContactMeter {
 
 namespace {
 
+/// Advances sim by k steps of dt (one step() call when k is 1, as every engine but an external
+/// one is stepped); an engine that cannot go on (cloth::EngineFailure) fails the run with its
+/// message as the cause, and false is returned.
+bool advance_engine(cloth::Simulator& sim, double dt, long long k, EngineRun& run) {
+  try {
+    if (k == 1)
+      sim.step(dt);
+    else
+      sim.advance(dt, static_cast<int>(k));
+    return true;
+  } catch (const cloth::EngineFailure& e) {
+    run.stable = false;
+    run.cause = std::string("engine failed: ") + e.what();
+    run.blowup_t = sim.time();
+    return false;
+  }
+}
+
 /// The figures of a finished run: its counters, final kinetic energy and static residual.
 void finish_run(EngineRun& run, const cloth::Simulator& sim, const cloth::Model& model) {
   // a run that blew up before its first frame has no energy error (not 0: nothing was measured)
@@ -120,13 +138,48 @@ void finish_run(EngineRun& run, const cloth::Simulator& sim, const cloth::Model&
   run.final_static_residual = static_residual(model, sim.time(), sim.positions(), sim.velocities());
 }
 
+/// Advances progress by a frame of steps; the label carries the simulated time, so that a slow
+/// engine shows how far it has come.
+void show_frame(Progress& progress, const Scenario& sc, const EngineSpec& spec,
+                const cloth::Simulator& sim, long long steps) {
+  char label[96];
+  std::snprintf(label, sizeof label, "%s  t = %.2f / %.2f s", spec.name.c_str(), sim.time(),
+                sc.duration);
+  progress.advance(double(steps), label);
+}
+
+/// The engine of spec on sc's scene; null when it cannot start (an external program that fails
+/// to run or to answer its handshake), with run then a failed run of the initial state alone.
+std::unique_ptr<cloth::Simulator> start_engine(const Scenario& sc, const EngineSpec& spec,
+                                               const cloth::Model& model, bool keep_positions,
+                                               EngineRun& run) {
+  try {
+    return make_engine(spec, sc.scene);
+  } catch (const cloth::EngineFailure& e) {
+    const cloth::Matrix3X v0 = cloth::Matrix3X::Zero(3, model.particle_count());
+    const double e0 = cloth::compute_energies(model, model.x0, v0).total();
+    run.frames.push_back(frame_metrics(model, 0.0, model.x0, v0, EnergyBooks{}, e0));
+    run.frames.back().stable = false;
+    if (keep_positions) run.positions.push_back(model.x0);
+    run.snapshot_times.push_back(0.0);
+    run.snapshots.push_back(model.x0);
+    run.stable = false;
+    run.cause = std::string("engine failed: ") + e.what();
+    run.blowup_t = 0.0;
+    run.max_energy_error = NAN;
+    run.final_kinetic = 0.0;
+    return nullptr;
+  }
+}
+
 }  // namespace
 
 EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
                      Progress* progress, bool keep_positions) {
   EngineRun run;
   run.spec = spec;
-  auto sim = make_engine(spec, sc.scene);
+  auto sim = start_engine(sc, spec, model, keep_positions, run);
+  if (!sim) return run;
   const long long steps_per_frame = std::llround(sc.frame_interval / spec.dt);
   const long long frames = std::llround(sc.duration / sc.frame_interval);
   const long long frames_per_snapshot =
@@ -163,8 +216,11 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   log_frame(0, true);
   snapshot();
   const auto started = std::chrono::steady_clock::now();
+  // an engine that pays per request advances from one energy check to the next in one batch,
+  // and its blow-up tests run at the batch's end; every other engine is tested every step
+  const long long batch = sim->prefers_batches() ? steps_per_check : 1;
   for (long long f = 1; f <= frames && run.stable; ++f) {
-    for (long long s = 0; s < steps_per_frame; ++s) {
+    for (long long s = 0; s < steps_per_frame;) {
       // every step: one frame can be long (a stability trial is a single frame)
       if (interrupt_requested()) throw Interrupted();
       if (over_budget(sc, started)) {
@@ -172,14 +228,16 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
         run.timed_out = true;
         break;
       }
+      const long long k = std::min(batch, steps_per_frame - s);
       const auto t0 = std::chrono::steady_clock::now();
-      sim->step(spec.dt);
+      if (!advance_engine(*sim, spec.dt, k, run)) break;
       run.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      s += k;
       if (!cloth::within_stretch(model.springs, sim->positions(), sc.blowup_strain)) {
         fail(sim->positions().allFinite() ? "strain" : "non-finite");
         break;
       }
-      if ((s + 1) % steps_per_check == 0 || s + 1 == steps_per_frame) {
+      if (s % steps_per_check == 0 || s == steps_per_frame) {
         if (const char* cause = energy_test.failure()) {
           fail(cause);
           break;
@@ -187,13 +245,7 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
       }
     }
     log_frame(f, run.stable);
-    if (progress && progress->live()) {
-      // the label carries the simulated time: a slow engine shows how far it has come
-      char label[96];
-      std::snprintf(label, sizeof label, "%s  t = %.2f / %.2f s", spec.name.c_str(), sim->time(),
-                    sc.duration);
-      progress->advance(double(steps_per_frame), label);
-    }
+    if (progress && progress->live()) show_frame(*progress, sc, spec, *sim, steps_per_frame);
     const bool last = f == frames || !run.stable;
     if (last || (frames_per_snapshot > 0 && f % frames_per_snapshot == 0)) snapshot();
   }

@@ -38,7 +38,15 @@ const std::vector<EngineKindInfo>& engine_kind_table() {
        false,
        true,
        "",
-       {"integrator", "margin", "friction", "solref", "solimp", "cone"}}};
+       {"integrator", "margin", "friction", "solref", "solimp", "cone"}},
+      // its dampers are the program's: the harness books what the program reports
+      {EngineKind::external,
+       "external",
+       false,
+       false,
+       false,
+       "not gated (an external engine books its own dissipation, which the harness cannot check)",
+       {"command", "step_timeout"}}};
   return table;
 }
 

@@ -15,7 +15,8 @@ enum class EngineKind {
   custom,             ///< the custom mass-spring cloth (src/cloth), with its integrators
   bullet_deformable,  ///< Bullet's deformable world with the mass-spring force
   bullet_softbody,    ///< Bullet's classic soft body, position-based link projection
-  mujoco              ///< MuJoCo 2.2.2: particles as slide-joint bodies, springs as tendons
+  mujoco,             ///< MuJoCo 2.2.2: particles as slide-joint bodies, springs as tendons
+  external            ///< the user's own program, by protocol (docs/external-engines.md)
 };
 
 /// What the harness knows about a kind of engine.
@@ -33,7 +34,7 @@ struct EngineKindInfo {
 const std::vector<EngineKindInfo>& engine_kind_table();
 /// The table's row of kind.
 const EngineKindInfo& engine_kind_info(EngineKind kind);
-/// "custom", "bullet-deformable", "bullet-softbody" or "mujoco".
+/// "custom", "bullet-deformable", "bullet-softbody", "mujoco" or "external".
 const char* engine_kind_name(EngineKind kind);
 /// The kind with that name, if any.
 std::optional<EngineKind> parse_engine_kind(std::string_view name);

@@ -61,12 +61,23 @@ std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
       own.cloth.self_collision = false;
       return reference::mujoco_refusal(spec.mujoco, own);
     }
+    case EngineKind::external:
+      // protocol version 1 carries no self-contact
+      if (self_collision_of(spec, scene.cloth) == SelfCollision::on)
+        return reference::Refusal{
+            "self-collision is not available on external engines (protocol version 1 carries no "
+            "self-contact); set self_collision = false on the engine",
+            {"cloth.self_collision"},
+            {"self_collision"}};
+      return std::nullopt;
   }
   throw std::logic_error("engine_refusal: an engine kind without a case");
 }
 
 void require_engine_can_model(const EngineSpec& spec, const cloth::Scene& scene,
                               const std::string& context) {
+  if (spec.kind == EngineKind::external && !reference::external_allowed())
+    throw UserError(reference::external_not_allowed_message(spec.name));
   if (const auto refusal = engine_refusal(spec, scene))
     throw UserError("engine " + spec.name + (context.empty() ? "" : " " + context) + ": " +
                     refusal->why);

@@ -13,6 +13,7 @@
 #include "harness/scenario/engine_kind.hpp"
 #include "reference/bullet/bullet_options.hpp"
 #include "reference/mujoco/mujoco_options.hpp"
+#include "reference/external/external_options.hpp"
 
 namespace clothbench {
 
@@ -47,7 +48,8 @@ struct EngineSpec {
   cloth::SolverOptions solver;         // kind = custom
   reference::BulletOptions bullet;     // kind = bullet-*
   reference::MujocoOptions mujoco;     // kind = mujoco
-  std::optional<bool> self_collision;  // the engine's own setting; unset: the cloth's
+  reference::ExternalOptions external;  // kind = external
+  std::optional<bool> self_collision;   // the engine's own setting; unset: the cloth's
 };
 
 /// Where a mesh cloth comes from: an OBJ file (cloth.mesh) or a generated shape

@@ -241,6 +241,34 @@ void read_mujoco_options(const Reader& r, const At& at, reference::MujocoOptions
   o.elliptic = r.choice(at, "cone", "pyramidal", {"pyramidal", "elliptic"}) == "elliptic";
 }
 
+/// external: the command, a non-empty array of non-empty strings, and the time budget.
+void read_external_options(const Reader& r, const At& at, reference::ExternalOptions& o) {
+  const toml::node* n = at.table.get("command");
+  if (!n) r.fail(&at.table, at.key("command"), "an external engine needs a command");
+  const toml::array* a = n->as_array();
+  for (size_t k = 0; a && k < a->size(); ++k) {
+    const auto* s = a->get(k)->as_string();
+    if (!s || s->get().empty()) a = nullptr;
+    if (a) o.command.push_back(s->get());
+  }
+  if (!a || a->empty()) r.expected(*n, at.key("command"), "a non-empty array of non-empty strings");
+  o.step_timeout = r.number(at, "step_timeout", o.step_timeout, kPositive);
+}
+
+/// The command's words that name a file or folder relative to the scenario file's folder,
+/// resolved against it (the program's name and its arguments alike; absolute paths, words
+/// that start with '-' and words naming nothing there are kept as written).
+void resolve_external_command(reference::ExternalOptions& o, const std::string& source) {
+  namespace fs = std::filesystem;
+  const fs::path base = fs::path(source).parent_path();
+  for (std::string& word : o.command) {
+    const fs::path p(word);
+    std::error_code ec;
+    if (word[0] == '-' || p.is_absolute() || base.empty() || !fs::exists(base / p, ec)) continue;
+    word = fs::absolute(base / p, ec).lexically_normal().string();
+  }
+}
+
 /// The options of e's kind, read from t.
 void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
   switch (e.kind) {
@@ -290,6 +318,9 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
     }
     case EngineKind::mujoco:
       read_mujoco_options(r, at, e.mujoco);
+      break;
+    case EngineKind::external:
+      read_external_options(r, at, e.external);
       break;
   }
 }
@@ -431,6 +462,7 @@ void read_engines(const Reader& r, const toml::table& root,
   for (size_t k = 0; k < engines.size(); ++k) {
     const toml::table& t = *engines[k];
     EngineSpec e = read_engine(r, t, static_cast<int>(k));
+    if (e.kind == EngineKind::external) resolve_external_command(e.external, s.source);
     const std::string path = "engine." + e.name;
     if (const auto [it, added] = first_with_name.emplace(e.name, static_cast<int>(k)); !added)
       r.fail(t.get("name") ? t.get("name") : &t, "engine." + std::to_string(k) + ".name",

@@ -401,6 +401,14 @@ void engine_keys(std::vector<ScenarioKey>& out) {
   s.number("klst", "1", b.klst, kUnitInterval, "stiffness = \"klst\": Bullet's link stiffness");
   s.integer("iterations", b.iterations, 1, kNoMax, "position-solver iterations per step");
   mujoco_engine_keys(out);
+  const reference::ExternalOptions x;
+  Rows ext(out, "engine", engine_kind_name(EngineKind::external));
+  ext.other("command", "array of strings", "", "required", "a non-empty array of non-empty strings",
+            "the program and its arguments, run without a shell; words naming a file or folder "
+            "relative to the scenario file's folder are resolved against it "
+            "(docs/external-engines.md)");
+  ext.number("step_timeout", "s", x.step_timeout, kPositive,
+             "wall clock the program has to answer one request before it is killed");
 }
 
 }  // namespace

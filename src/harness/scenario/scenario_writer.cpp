@@ -230,6 +230,11 @@ std::string scenario_to_toml(const Scenario& s) {
         << "iterations = " << e.bullet.iterations << "\n";
     } else if (e.kind == EngineKind::mujoco) {
       write_mujoco_options(o, e.mujoco);
+    } else if (e.kind == EngineKind::external) {
+      o << "command = [";
+      for (size_t k = 0; k < e.external.command.size(); ++k)
+        o << (k ? ", " : "") << toml_string(e.external.command[k]);
+      o << "]\nstep_timeout = " << d(e.external.step_timeout) << "  # s\n";
     }
   }
   return o.str();

@@ -214,8 +214,19 @@ std::vector<StateGrowth> judge_growth(const Scenario& sc, const EngineSpec& engi
                                       const std::vector<GrowthState>& states, double dt,
                                       const GrowthSearchOptions& o, long long* steps) {
   std::vector<StateGrowth> out;
-  for (const GrowthState& s : states)
-    out.push_back(judge_state(sc, engine, model, s, dt, o, steps));
+  for (const GrowthState& s : states) {
+    // an engine that cannot go on (an external program that died) gives no verdict there
+    try {
+      out.push_back(judge_state(sc, engine, model, s, dt, o, steps));
+    } catch (const cloth::EngineFailure& e) {
+      StateGrowth g;
+      g.label = s.label;
+      g.contacts = s.contacts;
+      g.smooth = false;
+      g.nonsmooth_reason = std::string("engine failed: ") + e.what();
+      out.push_back(g);
+    }
+  }
   return out;
 }
 

@@ -1,0 +1,240 @@
+/// @file test_external_engine.cpp
+/// The external-engine protocol (reference/external): the example engines (Python + numpy, and
+/// C++) against the custom engine's symplectic Euler on the seed scene without contact, the
+/// state requests, and every way an engine can misbehave (tests/data/external/
+/// misbehaving_engine.py), which must fail the engine's run with its reason and never hang.
+
+#include <signal.h>
+#include <sys/wait.h>
+
+#include <catch2/catch.hpp>
+#include <chrono>
+#include <cstdlib>
+#include <fstream>
+
+#include "cloth/integrators/mass_spring_cloth.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/run/runner.hpp"
+#include "harness/scenario/scenario_loader.hpp"
+#include "reference/external/external_engine.hpp"
+#include "temp_dir.hpp"
+#include "tolerances.hpp"
+
+using namespace clothbench;
+using reference::ExternalEngine;
+using reference::ExternalOptions;
+
+namespace {
+
+const std::string kSource = CLOTHBENCH_SOURCE_DIR;
+const std::string kPythonEngine = kSource + "/examples/external/python/cloth_engine.py";
+const std::string kMisbehaving = kSource + "/tests/data/external/misbehaving_engine.py";
+
+/// The seed scene without its sphere: a 25 x 25 cloth pinned at its corners, no contact.
+cloth::Scene free_seed_scene() {
+  cloth::Scene s = cloth::seed_scene(25);
+  s.spheres.clear();
+  return s;
+}
+
+ExternalOptions misbehaving(const std::string& mode, double timeout = 10.0) {
+  return {{"/usr/bin/python3", kMisbehaving, mode}, timeout};
+}
+
+/// True when no process pid exists any more (reaped, not a zombie).
+bool gone(int pid) {
+  return ::kill(pid, 0) != 0 && errno == ESRCH;
+}
+
+/// Runs advance on a fresh engine of options and returns what it threw ("" if nothing).
+std::string failure_of(const ExternalOptions& options) {
+  try {
+    ExternalEngine e(options, free_seed_scene(), 1e-3);
+    e.advance(1e-3, 10);
+    return "";
+  } catch (const cloth::EngineFailure& f) {
+    return f.what();
+  }
+}
+
+}  // namespace
+
+TEST_CASE("The example external engines match custom symplectic Euler to round-off", "[external]") {
+  const std::string command = GENERATE(std::string("python"), std::string("cpp"));
+  ExternalOptions options;
+  options.command = command == "python"
+                        ? std::vector<std::string>{"/usr/bin/python3", kPythonEngine}
+                        : std::vector<std::string>{CLOTHBENCH_EXAMPLE_ENGINE};
+  const cloth::Scene scene = free_seed_scene();
+  cloth::SolverOptions so;
+  so.integrator = cloth::Integrator::symplectic_euler;
+  cloth::MassSpringCloth custom(scene, so);
+  ExternalEngine external(options, scene, 1e-4);
+  // 0.2 s in frames of 100 steps: the cloth swings down about 0.2 m
+  for (int frame = 0; frame < 20; ++frame) {
+    custom.advance(1e-4, 100);
+    external.advance(1e-4, 100);
+  }
+  CHECK(external.time() == Approx(custom.time()).epsilon(1e-12));
+  CHECK(external.counters().steps == 2000);
+  CHECK((external.positions() - custom.positions()).cwiseAbs().maxCoeff() < tol::kExternalRoundOff);
+  CHECK((external.velocities() - custom.velocities()).cwiseAbs().maxCoeff() <
+        tol::kExternalRoundOffVelocity);
+  // the cloth has moved far more than the difference: the comparison is not of two rests
+  CHECK((custom.positions() - custom.model().x0).cwiseAbs().maxCoeff() > 0.1);
+  // the engine books its dampers' work as the custom engine does
+  CHECK(external.dissipated() == Approx(custom.dissipated()).epsilon(1e-6));
+}
+
+TEST_CASE("An external engine takes and reports a state exactly", "[external]") {
+  ExternalEngine e({{"/usr/bin/python3", kPythonEngine}, 10.0}, free_seed_scene(), 1e-3);
+  const int P = 625;
+  cloth::Matrix3X x = cloth::Matrix3X::Random(3, P), v = cloth::Matrix3X::Random(3, P);
+  e.set_state(x, v, 0.25);
+  CHECK(e.time() == 0.25);
+  CHECK(e.positions() == x);
+  CHECK(e.velocities() == v);
+  e.read_state();
+  CHECK(e.positions() == x);
+  REQUIRE(e.can_set_state());
+}
+
+TEST_CASE("An external engine that misbehaves fails with its reason and is reaped", "[external]") {
+  struct Case {
+    const char* mode;
+    const char* reason;  // in the message
+  };
+  const Case c = GENERATE(
+      Case{"crash", "about to crash on purpose"}, Case{"crash", "killed by signal 6"},
+      Case{"garbage", "not a protocol frame"}, Case{"wrong-count", "624 particles"},
+      Case{"early-exit", "exited with status 4"}, Case{"early-exit", "leaving early"},
+      Case{"error", "cannot do this on purpose"}, Case{"bad-version", "protocol version 99"});
+  CAPTURE(c.mode);
+  const std::string what = failure_of(misbehaving(c.mode));
+  CHECK_THAT(what, Catch::Contains(c.reason));
+}
+
+TEST_CASE("An external engine that hangs is killed at its step_timeout", "[external]") {
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string what = failure_of(misbehaving("hang", 0.5));
+  const double waited =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  CHECK_THAT(what, Catch::Contains("no answer within its step_timeout"));
+  CHECK_THAT(what, Catch::Contains("hanging on purpose"));
+  CHECK(waited < 5.0);  // a bound on the harness's wait, not a speed measurement
+}
+
+TEST_CASE("An external engine's processes are reaped, also after a failure", "[external]") {
+  int pid = 0;
+  {
+    ExternalEngine e(misbehaving("good"), free_seed_scene(), 1e-3);
+    pid = e.pid();
+    e.advance(1e-3, 3);
+    CHECK(!gone(pid));
+  }
+  CHECK(gone(pid));
+  // an engine that fails is reaped when the failure is thrown
+  try {
+    ExternalEngine e(misbehaving("hang", 0.3), free_seed_scene(), 1e-3);
+    pid = e.pid();
+    e.advance(1e-3, 1);
+  } catch (const cloth::EngineFailure&) {
+  }
+  CHECK(gone(pid));
+  // an engine that writes far more stderr than a pipe holds is not blocked by it
+  ExternalEngine noisy(misbehaving("noisy"), free_seed_scene(), 1e-3);
+  noisy.advance(1e-3, 1);
+  CHECK(noisy.time() == Approx(1e-3));
+}
+
+namespace {
+
+/// A scenario of the free seed scene (15 x 15, 0.1 s) with the custom engine and an external
+/// engine running misbehaving_engine.py in mode.
+Scenario two_engines(const std::string& mode) {
+  const std::string text = R"(
+name = "external"
+duration = 0.1
+frame_interval = 0.01
+[cloth]
+particles = [15, 15]
+size = [4.0, 4.0]
+[[constraint]]
+select = "corners"
+hold = "xyz"
+[[engine]]
+name = "custom"
+kind = "custom"
+integrator = "symplectic-euler"
+dt = 2e-4
+[[engine]]
+name = "mine"
+kind = "external"
+command = ["/usr/bin/python3", ")" +
+                           kMisbehaving + R"(", ")" + mode + R"("]
+step_timeout = 0.5
+dt = 1e-3
+)";
+  return parse_scenario(text, "<test>", {}, {});
+}
+
+}  // namespace
+
+TEST_CASE("A failing external engine fails its own run only", "[external]") {
+  ::setenv(reference::kAllowExternalVariable, "1", 1);
+  struct Case {
+    const char* mode;
+    const char* cause;
+  };
+  const Case c = GENERATE(Case{"crash", "engine failed: "}, Case{"hang", "no answer within"},
+                          Case{"nan", "non-finite"}, Case{"good", ""});
+  CAPTURE(c.mode);
+  RunOptions o;
+  o.progress = false;
+  const RunResult r = run_scenario(two_engines(c.mode), o);
+  REQUIRE(r.runs.size() == 2);
+  CHECK(r.runs[0].stable);
+  CHECK(r.runs[0].frames.size() == 11);
+  CHECK(r.runs[1].stable == (std::string(c.mode) == "good"));
+  CHECK_THAT(r.runs[1].cause, Catch::Contains(c.cause));
+  // the runner asks for a whole frame (10 steps of 1 ms) in one request: 10 requests in all
+  if (std::string(c.mode) == "good") {
+    CHECK(r.runs[1].counters.steps == 100);
+    CHECK(r.runs[1].counters.force_evals == 10);
+  }
+}
+
+TEST_CASE("An external engine runs only when allowed", "[external]") {
+  ::unsetenv(reference::kAllowExternalVariable);
+  RunOptions o;
+  o.progress = false;
+  CHECK_THROWS_WITH(
+      run_scenario(two_engines("good"), o),
+      Catch::Contains("--allow-external") && Catch::Contains("CLOTHBENCH_ALLOW_EXTERNAL=1"));
+  ::setenv(reference::kAllowExternalVariable, "1", 1);
+  CHECK_NOTHROW(run_scenario(two_engines("good"), o));
+  ::unsetenv(reference::kAllowExternalVariable);
+}
+
+TEST_CASE("An external command's paths are resolved against the scenario's folder",
+          "[external][scenario]") {
+  test::TempDir dir("external-paths");
+  std::filesystem::create_directories(dir.path / "engines");
+  std::ofstream(dir.path / "engines" / "mine.py") << "# an engine\n";
+  std::ofstream(dir.path / "s.toml") << R"(
+[[engine]]
+kind = "external"
+command = ["python3", "engines/mine.py", "-v", "not/a/file", "/abs/path"]
+)";
+  const Scenario s = load_scenario((dir.path / "s.toml").string());
+  const std::vector<std::string> expected = {
+      "python3", (dir.path / "engines" / "mine.py").lexically_normal().string(), "-v", "not/a/file",
+      "/abs/path"};
+  CHECK(s.engines[0].external.command == expected);
+  CHECK(s.engines[0].external.step_timeout == 60.0);
+  CHECK_THROWS_WITH(
+      parse_scenario("[[engine]]\nkind = \"external\"\ncommand = []\n", "<t>", {}, {}),
+      Catch::Contains("a non-empty array of non-empty strings"));
+  CHECK_THROWS_WITH(parse_scenario("[[engine]]\nkind = \"external\"\n", "<t>", {}, {}),
+                    Catch::Contains("needs a command"));
+}
