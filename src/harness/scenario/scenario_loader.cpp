@@ -645,7 +645,9 @@ Scenario parse_scenario(std::string_view toml_text, const std::string& source_na
     return read_scenario(root, source_name, only);
   } catch (const ScenarioError& e) {
     // a line of the file may be wrong only because of an override: say which were applied
-    if (overrides.empty() || e.where().rfind(source_name + ":", 0) != 0) throw;
+    if (overrides.empty() || e.where().rfind(source_name + ":", 0) != 0 ||
+        e.problem().find("--set ") != std::string::npos)
+      throw;
     std::string applied;
     for (const std::string& o : overrides) applied += (applied.empty() ? "" : " ") + ("--set " + o);
     throw ScenarioError(e.where(), e.key(), e.problem() + " (with " + applied + " applied)");
