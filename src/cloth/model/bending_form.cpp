@@ -120,6 +120,43 @@ BendingForm build_bending_form(const Matrix3X& x0, const std::vector<Triangle>& 
   return form;
 }
 
+BendingForm build_edge_bending_form(const Matrix3X& x0, const std::vector<Triangle>& triangles,
+                                    double rigidity) {
+  // per interior edge (a, b) with opposite c, d: K = (cot b0 + cot b1, cot a0 + cot a1,
+  // -(cot a0 + cot b0), -(cot a1 + cot b1)), E = B/2 sum |K x|^2 / (A0 + A1)
+  struct Side {
+    int opposite;
+    double cot_a, cot_b, area;
+  };
+  std::map<std::pair<int, int>, std::vector<Side>> sides;
+  for (const Triangle& t : triangles) {
+    const double twice = (x0.col(t[1]) - x0.col(t[0])).cross(x0.col(t[2]) - x0.col(t[0])).norm();
+    auto cot_at = [&](int p, int q, int r) {
+      return (x0.col(q) - x0.col(p)).dot(x0.col(r) - x0.col(p)) / twice;
+    };
+    for (int k = 0; k < 3; ++k) {
+      const int a = t[size_t(k)], b = t[size_t((k + 1) % 3)], c = t[size_t((k + 2) % 3)];
+      const int lo = std::min(a, b), hi = std::max(a, b);
+      sides[{lo, hi}].push_back({c, cot_at(lo, hi, c), cot_at(hi, lo, c), 0.5 * twice});
+    }
+  }
+  std::vector<Eigen::Triplet<double>> t;
+  for (const auto& [ab, sd] : sides) {
+    if (sd.size() != 2) continue;
+    const int idx[4] = {ab.first, ab.second, sd[0].opposite, sd[1].opposite};
+    const double k[4] = {sd[0].cot_b + sd[1].cot_b, sd[0].cot_a + sd[1].cot_a,
+                         -(sd[0].cot_a + sd[0].cot_b), -(sd[1].cot_a + sd[1].cot_b)};
+    const double s = rigidity / (sd[0].area + sd[1].area);
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) t.emplace_back(idx[i], idx[j], s * k[i] * k[j]);
+  }
+  BendingForm form;
+  form.q.resize(x0.cols(), x0.cols());
+  form.q.setFromTriplets(t.begin(), t.end());
+  form.q.makeCompressed();
+  return form;
+}
+
 BendingForm renumbered(const BendingForm& form, const std::vector<int>& new_of_old) {
   if (form.empty()) return form;
   std::vector<Eigen::Triplet<double>> t;

@@ -50,6 +50,15 @@ struct BendingForm {
 BendingForm build_bending_form(const Matrix3X& x0, const std::vector<Triangle>& triangles,
                                double rigidity);
 
+/// The per-edge form of Bergou et al. 2006 for comparison (hinge_bending tests): per interior
+/// edge ab with opposite vertices c, d, E_e = B/2 |K x|^2 / (A0 + A1) with K = (cot b0 + cot b1,
+/// cot a0 + cot a1, -(cot a0 + cot b0), -(cot a1 + cot b1)) from the rest angles at a and b
+/// in each triangle: their 3 / (A0 + A1) times 1/3, the constant a cylinder along a grid axis
+/// or on an equilateral mesh needs.
+/// @param x0  3 by #P flat rest positions (m)
+BendingForm build_edge_bending_form(const Matrix3X& x0, const std::vector<Triangle>& triangles,
+                                    double rigidity);
+
 /// The same form between renumbered particles: Q'(new_of_old[p], new_of_old[q]) = Q(p, q).
 /// @param new_of_old  #P, a permutation
 BendingForm renumbered(const BendingForm& form, const std::vector<int>& new_of_old);
