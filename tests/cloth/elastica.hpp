@@ -63,7 +63,7 @@ inline ElasticaTip elastica_tip(double lambda) {
 /// The bending length c (m) of a strip of overhang l (m) whose tip falls by drop (m): the
 /// drop over the overhang grows with l / c, so bisection on it.
 inline double bending_length_from_drop(double l, double drop) {
-  double lo = 1e-3, hi = 50.0;  // l / c
+  double lo = 0.05, hi = 5.0;  // l / c: beyond 5 the shooting above finds other roots
   for (int it = 0; it < 50; ++it) {
     const double mid = 0.5 * (lo + hi);
     (elastica_tip(mid).drop / mid < drop / l ? lo : hi) = mid;

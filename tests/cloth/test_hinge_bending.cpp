@@ -85,8 +85,7 @@ Matrix3X moved_rigidly(const Matrix3X& x, std::mt19937& rng) {
 
 }  // namespace
 
-TEST_CASE("hinge bending: force and stiffness equal central differences of the energy",
-          "[hinge]") {
+TEST_CASE("hinge bending: force and stiffness equal central differences of the energy", "[hinge]") {
   const bool mesh = GENERATE(false, true);
   CAPTURE(mesh);
   const Scene scene = mesh ? hinge_mesh(0.1, 0.025, 2e-4) : hinge_grid(6, 5, 0.1, 0.08, 2e-4);
@@ -109,9 +108,9 @@ TEST_CASE("hinge bending: force and stiffness equal central differences of the e
       xp(r, p) += step;
       xm(r, p) -= step;
       // the force is minus the energy's gradient
-      const double grad = (bending_energy(m.springs.bending, xp) -
-                           bending_energy(m.springs.bending, xm)) /
-                          (2 * step);
+      const double grad =
+          (bending_energy(m.springs.bending, xp) - bending_energy(m.springs.bending, xm)) /
+          (2 * step);
       REQUIRE(f(r, p) == Approx(-grad).margin(tol::kJacobianRelative * fmax));
       // column (r, p) of df/dx against the difference of the forces
       Matrix3X fp = Matrix3X::Zero(3, n), fm = Matrix3X::Zero(3, n), e = Matrix3X::Zero(3, n);
@@ -148,8 +147,7 @@ TEST_CASE("hinge bending: the assembled Newton matrix equals the matrix-free one
   ImplicitMatrix a(m);
   a.assemble(m, lin, lin, h);
   Matrix3X free_product(3, m.particle_count()), buf(3, m.particle_count());
-  for (int r = 0; r < 3; ++r)
-    free_product.row(r) = u.row(r).cwiseProduct(m.mass.transpose());
+  for (int r = 0; r < 3; ++r) free_product.row(r) = u.row(r).cwiseProduct(m.mass.transpose());
   add_newton_product(m.springs, lin, lin, u, -h * h, -h, free_product, buf);
   Eigen::VectorXd ui(3 * u.cols());
   Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic>>(ui.data(), 3, u.cols()) = u;
@@ -185,14 +183,17 @@ TEST_CASE("hinge bending: no force at rigid motions and affine in-plane maps of 
     Matrix3X f = Matrix3X::Zero(3, m.particle_count());
     add_bending_forces(m.springs.bending, x, f);
     REQUIRE(f.cwiseAbs().maxCoeff() <= 1e-9 * scale);
+    // round-off of x^T Q x at offsets of ~1 m against a 1 mm bump: eps (1 m / 1 mm)^2 per
+    // stencil entry, summed over the particles
     REQUIRE(std::fabs(bending_energy(m.springs.bending, x)) <=
-            1e-12 * bending_energy(m.springs.bending, bump));
+            1e-6 * bending_energy(m.springs.bending, bump));
   }
 }
 
-TEST_CASE("hinge bending: a sheet bent into a cylinder stores B k^2 / 2 per area in every "
-          "direction",
-          "[hinge]") {
+TEST_CASE(
+    "hinge bending: a sheet bent into a cylinder stores B k^2 / 2 per area in every "
+    "direction",
+    "[hinge]") {
   // a 0.2 m square at 81 x 81, bent to radius 0.1 m: h k = 0.025, the five-point Laplacian's
   // truncation is (h k)^2 / 12 = 5e-5 of the curvature
   const double b = 1.5e-5, k = 10.0;
@@ -229,16 +230,16 @@ namespace {
 /// The cantilever of the issue's goal: a strip 25 mm wide along z, its overhang along +x from
 /// the clamp at x = 0, the particles with rest x <= 0 (three columns) held, stiff in stretch.
 struct Strip {
-  double overhang = 0.1;     // m, L
-  double spacing = 0.005;    // m, along x (along z at most this)
-  double areal = 0.2;        // kg/m^2, rho_A
+  double overhang = 0.1;   // m, L
+  double spacing = 0.005;  // m, along x (along z at most this)
+  double areal = 0.2;      // kg/m^2, rho_A
   BendModel model = BendModel::hinge;
-  double rigidity = 0.0;     // N m, the hinge's B
-  double k_bend = 0.0;       // N/m, the bend springs'
-  double stretch = 1.0e4;    // N/m, structural and shear: strain below 1e-5 here
+  double rigidity = 0.0;   // N m, the hinge's B
+  double k_bend = 0.0;     // N/m, the bend springs'
+  double stretch = 1.0e4;  // N/m, structural and shear: strain below 1e-5 here
 };
 
-constexpr double kStripWidth = 0.025;   // m
+constexpr double kStripWidth = 0.025;  // m
 
 /// The strip's model, its particles weighing rho_A times their barycentric area (the plate's
 /// mass, so the weight per length is uniform up to the ends).
@@ -297,6 +298,12 @@ double settled_tip_drop(const Strip& s) {
   if (std::getenv("HINGE_DIAG")) {
     const auto& x = cloth.positions();
     const int mid = nu / 2;
+    Matrix3X f = Matrix3X::Zero(3, x.cols()), buf = Matrix3X::Zero(3, x.cols());
+    add_spring_forces(m.springs, x, Matrix3X::Zero(3, x.cols()), f, buf);
+    for (Eigen::Index p = 0; p < x.cols(); ++p) f(1, p) -= kG * m.mass[p];
+    f.array() *= m.free.array();
+    std::printf("static residual %.3g of the weight %.3g\n", f.cwiseAbs().maxCoeff(),
+                kG * m.mass.maxCoeff());
     std::printf("steps %d drop %.6g tip edge-centre y %.3g mid-length edge-centre y %.3g\n", step,
                 drop / m.nv, x(1, nu - 1) - x(1, (m.nv / 2) * nu + nu - 1),
                 x(1, mid) - x(1, (m.nv / 2) * nu + mid));
@@ -323,7 +330,8 @@ TEST_CASE("hinge cantilever: diagnosis", "[.hinge-diag]") {
     Matrix3X f = Matrix3X::Zero(3, x.cols());
     add_bending_forces(m.springs.bending, x, f);
     double tot = 0;
-    for (Eigen::Index p = 0; p < x.cols(); ++p) if (m.x0(0, p) > 0) tot += f(1, p);
+    for (Eigen::Index p = 0; p < x.cols(); ++p)
+      if (m.x0(0, p) > 0) tot += f(1, p);
     std::printf("free force sum %.6g mass %.6g\n", tot, m.mass.sum());
   }
   for (double lambda : {0.5, 1.0, 1.5, 2.0}) {

@@ -59,18 +59,18 @@ TEST_CASE("the hinge model's keys are refused where they do not apply", "[hinge]
 }
 
 TEST_CASE("xpbd, projective and the Bullet engines refuse the hinge model at load", "[hinge]") {
-  const std::string engine =
-      GENERATE(std::string("kind = \"custom\"\nintegrator = \"xpbd\"\n"),
-               std::string("kind = \"custom\"\nintegrator = \"projective\"\n"),
-               std::string("kind = \"bullet-deformable\"\n"),
-               std::string("kind = \"bullet-softbody\"\n"));
+  const std::string engine = GENERATE(
+      std::string("kind = \"custom\"\nintegrator = \"xpbd\"\n"),
+      std::string("kind = \"custom\"\nintegrator = \"projective\"\n"),
+      std::string("kind = \"bullet-deformable\"\n"), std::string("kind = \"bullet-softbody\"\n"));
   CAPTURE(engine);
   REQUIRE_THROWS_WITH(parse_scenario(hinge_scene(kHinge, engine), "x.toml"),
                       Contains("bend_model = \"hinge\""));
 }
 
 TEST_CASE("the explicit and implicit custom integrators accept the hinge model", "[hinge]") {
-  const std::string integrator = GENERATE("symplectic-euler", "rk4", "implicit-euler", "imex-euler");
+  const std::string integrator =
+      GENERATE("symplectic-euler", "rk4", "implicit-euler", "imex-euler");
   CAPTURE(integrator);
   REQUIRE_NOTHROW(parse_scenario(
       hinge_scene(kHinge, "kind = \"custom\"\nintegrator = \"" + integrator + "\"\n"), "x.toml"));

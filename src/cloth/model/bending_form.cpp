@@ -70,8 +70,8 @@ std::vector<double> represented_areas(const RestLaplacian& l) {
     for (auto [b, u] : {ab, std::pair{ab.second, ab.first}})
       if (l.boundary[size_t(b)] && !l.boundary[size_t(u)]) {
         const double ws = weight_sum[size_t(b)];
-        const double share = ws > 0 ? std::max(e.weight, 0.0) / ws
-                                    : 1.0 / interior_neighbours[size_t(b)];
+        const double share =
+            ws > 0 ? std::max(e.weight, 0.0) / ws : 1.0 / interior_neighbours[size_t(b)];
         out[size_t(u)] += share * l.area[size_t(b)];
       }
   return out;
