@@ -44,11 +44,11 @@ struct ClothParams {
   double k_bend = 2.0e4;        // N/m, 0: no bend springs; not used by the hinge model
   BendModel bend_model = BendModel::springs;
   double bending_rigidity = 0.0;  // N m, B of the hinge model (> 0 there), per unit width
-  double damping = 750.0;       // N s/m, along every spring
-  double air_drag = 0.0;        // N s/m, viscous drag on every particle
-  bool self_collision = false;  // keep layers of the cloth apart (engines that can)
-  double thickness = 0.004;     // m, the distance self-contact keeps layers apart
-  double self_friction = 0.0;   // Coulomb coefficient of cloth on cloth
+  double damping = 750.0;         // N s/m, along every spring
+  double air_drag = 0.0;          // N s/m, viscous drag on every particle
+  bool self_collision = false;    // keep layers of the cloth apart (engines that can)
+  double thickness = 0.004;       // m, the distance self-contact keeps layers apart
+  double self_friction = 0.0;     // Coulomb coefficient of cloth on cloth
 };
 
 /// Prescribed rigid translation, the one mechanism of moving colliders and handles: a constant

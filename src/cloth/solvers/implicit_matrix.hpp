@@ -81,9 +81,9 @@ class ImplicitMatrix {
   std::vector<char> m_touching;     // apply_contacts(whole): per particle, 1 if in contact
   std::vector<int> m_spring_slots;  // per spring 4 blocks (pp, qq, pq, qp) by 3 columns
   std::vector<int> m_bending_slots;  // per entry of the hinge bending's Q, its block's 3 columns
-  std::vector<int> m_diag_slots;    // per particle and column, the offset of row 3 p
-  std::vector<int> m_held_zero;     // off-diagonal entries in a held row or column
-  std::vector<int> m_held_one;      // diagonal entries of held axes
+  std::vector<int> m_diag_slots;     // per particle and column, the offset of row 3 p
+  std::vector<int> m_held_zero;      // off-diagonal entries in a held row or column
+  std::vector<int> m_held_one;       // diagonal entries of held axes
 };
 
 }  // namespace cloth
