@@ -11,7 +11,7 @@ namespace cloth {
 struct Energies {
   double kinetic = 0;            // J, sum 1/2 m |v|^2
   double gravity_potential = 0;  // J, -sum m g . x (zero at the origin)
-  double elastic_potential = 0;  // J, sum 1/2 k (|d| - l0)^2
+  double elastic_potential = 0;  // J, sum 1/2 k (|d| - l0)^2, plus the hinge bending's
 
   double total() const { return kinetic + gravity_potential + elastic_potential; }
 };

@@ -1,5 +1,7 @@
 #include "cloth/forces/spring_forces.hpp"
 
+#include "cloth/forces/hinge_bending.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -171,6 +173,7 @@ double add_spring_forces(const SpringSet& springs, const Matrix3X& x, const Matr
     }
   }
   if (!springs.list.empty()) power += add_list_forces(springs.list, c, x, v, f);
+  add_bending_forces(springs.bending, x, f);
   return power;
 }
 
@@ -211,7 +214,7 @@ double elastic_energy(const SpringSet& springs, const Matrix3X& x) {
     const double stretch = (x.col(l.b[i]) - x.col(l.a[i])).norm() - l.rest[i];
     e += 0.5 * l.stiffness[i] * stretch * stretch;
   }
-  return e;
+  return e + bending_energy(springs.bending, x);
 }
 
 StrainStats strain_stats(const SpringSet& springs, const Matrix3X& x) {

@@ -1,5 +1,7 @@
 #include "cloth/forces/spring_jacobians.hpp"
 
+#include "cloth/forces/hinge_bending.hpp"
+
 #include <algorithm>
 #include <cmath>
 
@@ -223,6 +225,7 @@ void add_jacobian_product(const SpringSet& springs, const SpringLinearization& l
   }
   if (!springs.list.empty())
     list_jacobian_product(springs.list, c, lin.dirs.back(), u, alpha, beta, y);
+  add_bending_product(springs.bending, u, alpha, y);
 }
 
 void add_newton_product(const SpringSet& springs, const SpringLinearization& lin_k,
@@ -265,6 +268,7 @@ void add_newton_product(const SpringSet& springs, const SpringLinearization& lin
   }
   if (!springs.list.empty())
     list_newton_product(springs.list, bc, lin_k.dirs.back(), lin_d.dirs.back(), u, alpha, y);
+  add_bending_product(springs.bending, u, alpha, y);
 }
 
 void add_jacobian_diagonal(const SpringSet& springs, const SpringLinearization& lin, double alpha,
@@ -286,6 +290,7 @@ void add_jacobian_diagonal(const SpringSet& springs, const SpringLinearization& 
       diag.row(r).segment(o, m) += buf.row(r).head(m);
     }
   }
+  add_bending_diagonal(springs.bending, alpha, diag);
   // the general list: the same block on both ends' diagonals
   const SpringList& l = springs.list;
   if (l.empty()) return;

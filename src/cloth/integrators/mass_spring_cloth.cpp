@@ -28,6 +28,11 @@ MassSpringCloth::MassSpringCloth(Model model, const SolverOptions& options)
   if (options.integrator == Integrator::implicit_euler &&
       options.newton == NewtonMethod::line_search)
     m_newton = std::make_unique<ImplicitEulerNewton>(m_model, options);
+  // xpbd and projective work on springs alone (the loader refuses such a scene first)
+  if ((options.integrator == Integrator::xpbd || options.integrator == Integrator::projective) &&
+      !m_model.springs.bending.empty())
+    throw std::invalid_argument(std::string(integrator_name(options.integrator)) +
+                                " cannot model bend_model = \"hinge\"");
   if (options.integrator == Integrator::projective)
     m_projective = std::make_unique<ProjectiveSolver>(m_model);
   if (m_model.self_collision) {

@@ -53,6 +53,10 @@ std::vector<Triangle> grid_triangles(int nu, int nv) {
   return out;
 }
 
+const char* bend_model_name(BendModel model) {
+  return model == BendModel::hinge ? "hinge" : "springs";
+}
+
 int Scene::particle_count() const {
   return mesh ? static_cast<int>(mesh->x.cols()) : cloth.nu * cloth.nv;
 }
@@ -154,8 +158,13 @@ Model build_model(const Scene& scene) {
       m.free.col(p).setZero();
       m.any_held = true;
     }
-  m.springs = scene.mesh ? mesh_springs(c, *scene.mesh) : build_springs(c, m.x0);
+  // the hinge model replaces the bend springs with its quadratic form over the triangles
+  ClothParams springs = c;
+  if (c.bend_model == BendModel::hinge) springs.k_bend = 0.0;
+  m.springs = scene.mesh ? mesh_springs(springs, *scene.mesh) : build_springs(springs, m.x0);
   m.triangles = scene.mesh ? scene.mesh->triangles : grid_triangles(c.nu, c.nv);
+  if (c.bend_model == BendModel::hinge)
+    m.springs.bending = build_bending_form(m.x0, m.triangles, c.bending_rigidity);
   m.gravity = scene.gravity;
   m.air_drag = c.air_drag;
   m.self_collision = c.self_collision;

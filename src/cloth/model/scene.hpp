@@ -19,6 +19,15 @@ enum class Plane {
   xy   ///< vertical: i along +x, j along +y
 };
 
+/// How a cloth resists bending.
+enum class BendModel {
+  springs,  ///< bend springs (k_bend) across every interior edge (a grid's: two steps apart)
+  hinge     ///< a constant quadratic form with rigidity B (bending_form.hpp); no bend springs
+};
+
+/// "springs" or "hinge".
+const char* bend_model_name(BendModel model);
+
 /// The cloth grid and its material.
 struct ClothParams {
   int nu = 25;                       // particles along u (i)
@@ -32,12 +41,14 @@ struct ClothParams {
   double areal_density = 0.0;   // kg/m^2, mass per area of cloth; 0: not given
   double k_structural = 2.0e4;  // N/m, 0: no structural springs
   double k_shear = 2.0e4;       // N/m, 0: no shear springs
-  double k_bend = 2.0e4;        // N/m, 0: no bend springs
-  double damping = 750.0;       // N s/m, along every spring
-  double air_drag = 0.0;        // N s/m, viscous drag on every particle
-  bool self_collision = false;  // keep layers of the cloth apart (engines that can)
-  double thickness = 0.004;     // m, the distance self-contact keeps layers apart
-  double self_friction = 0.0;   // Coulomb coefficient of cloth on cloth
+  double k_bend = 2.0e4;        // N/m, 0: no bend springs; not used by the hinge model
+  BendModel bend_model = BendModel::springs;
+  double bending_rigidity = 0.0;  // N m, B of the hinge model (> 0 there), per unit width
+  double damping = 750.0;         // N s/m, along every spring
+  double air_drag = 0.0;          // N s/m, viscous drag on every particle
+  bool self_collision = false;    // keep layers of the cloth apart (engines that can)
+  double thickness = 0.004;       // m, the distance self-contact keeps layers apart
+  double self_friction = 0.0;     // Coulomb coefficient of cloth on cloth
 };
 
 /// Prescribed rigid translation, the one mechanism of moving colliders and handles: a constant

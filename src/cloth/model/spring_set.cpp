@@ -46,6 +46,7 @@ std::vector<SpringLink> SpringSet::links() const {
 SpringSet to_general(const SpringSet& springs) {
   SpringSet out;
   out.damping = springs.damping;
+  out.bending = springs.bending;
   for (const SpringLink& l : springs.links()) out.list.push_back(l);
   return out;
 }
@@ -110,6 +111,7 @@ SpringSet renumbered(const SpringSet& springs, const std::vector<int>& new_of_ol
                    [&](size_t p, size_t q) { return round[p] < round[q]; });
   SpringSet out;
   out.damping = springs.damping;
+  out.bending = renumbered(springs.bending, new_of_old);
   for (size_t i : order) out.list.push_back(links[i]);
   return out;
 }

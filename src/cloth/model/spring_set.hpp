@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "cloth/model/bending_form.hpp"
 #include "cloth/model/scene.hpp"
 #include "cloth/model/types.hpp"
 
@@ -73,8 +74,9 @@ struct SpringList {
 /// Every spring of a cloth: a grid's families, then the general list (either may be empty).
 struct SpringSet {
   std::vector<SpringFamily> families;
-  SpringList list;     // springs of no family (a mesh's), after the families
-  double damping = 0;  // N s/m, the same along every spring
+  SpringList list;      // springs of no family (a mesh's), after the families
+  double damping = 0;   // N s/m, the same along every spring
+  BendingForm bending;  // the hinge model's bending, taken by every kernel here; else empty
 
   /// Total number of springs.
   int count() const;

@@ -14,6 +14,16 @@ int entry_offset(const Eigen::SparseMatrix<double>& a, int row, int col) {
   return static_cast<int>(std::lower_bound(begin, end, row) - a.innerIndexPtr());
 }
 
+/// Calls visit(p, q, Q(p, q)) for every stored entry of the hinge bending's form, column by
+/// column.
+template <class Visit>
+void for_each_bending_entry(const Model& m, Visit&& visit) {
+  const Eigen::SparseMatrix<double>& q = m.springs.bending.q;
+  for (int col = 0; col < q.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(q, col); it; ++it)
+      visit(int(it.row()), col, it.value());
+}
+
 }  // namespace
 
 Matrix3 spring_block(const Model& m, const SpringLinearization& lin_k,
@@ -39,6 +49,7 @@ ImplicitMatrix::ImplicitMatrix(const Model& m, bool whole) {
     add_block(p, q);
     add_block(q, p);
   });
+  for_each_bending_entry(m, [&](int p, int q, double) { add_block(p, q); });
   m_a.resize(3 * n, 3 * n);
   m_a.setFromTriplets(t.begin(), t.end());
   m_a.makeCompressed();
@@ -50,6 +61,7 @@ ImplicitMatrix::ImplicitMatrix(const Model& m, bool whole) {
   for_each_spring(m.springs, [&](int p, int q, size_t, int) {
     for (auto [r, c] : {std::pair{p, p}, {q, q}, {p, q}, {q, p}}) block_slots(r, c, m_spring_slots);
   });
+  for_each_bending_entry(m, [&](int p, int q, double) { block_slots(p, q, m_bending_slots); });
   // held axes: identity row and column
   for (int col = 0; col < 3 * n; ++col) {
     for (int k = m_a.outerIndexPtr()[col]; k < m_a.outerIndexPtr()[col + 1]; ++k) {
@@ -80,6 +92,12 @@ void ImplicitMatrix::assemble(const Model& m, const SpringLinearization& lin_k,
         for (int r = 0; r < 3; ++r) val[slots[3 * blk + c] + r] += sign * block(r, c);
     }
   });
+  // the hinge bending's h^2 Q on every axis: its stiffness is -Q
+  int e = 0;
+  for_each_bending_entry(m, [&](int, int, double q) {
+    const int* slots = &m_bending_slots[3 * e++];
+    for (int c = 0; c < 3; ++c) val[slots[c] + c] += h * h * q;
+  });
   for (int k : m_held_zero) val[k] = 0.0;
   for (int k : m_held_one) val[k] = 1.0;
   copy_diagonal_blocks();
@@ -102,6 +120,10 @@ void ImplicitMatrix::assemble_diagonal_blocks(const Model& m, const SpringLinear
   for (size_t fi = 0; fi < m.springs.families.size(); ++fi)
     add_family_diagonal(m, lin_k.dirs[fi], lin_d.dirs[fi], fi, h);
   if (!m.springs.list.empty()) add_list_diagonal(m, lin_k.dirs.back(), lin_d.dirs.back(), h);
+  if (!m.springs.bending.empty()) {
+    const VectorX q = m.springs.bending.q.diagonal();
+    for (int r = 0; r < 3; ++r) m_sym.row(r) += (h * h) * q.transpose();
+  }
   m_blocks.resize(3, 3 * Eigen::Index(n));
   const double diagonal_extra = h * m.air_drag;
   for (int p = 0; p < n; ++p) {
@@ -207,6 +229,11 @@ void ImplicitMatrix::apply_contacts(const Model& m, const std::vector<ContactCon
     if (!touching[p] && !touching[q]) return;
     transform(slots + 6, p, q, false);
     transform(slots + 9, q, p, false);
+  });
+  int e = 0;
+  for_each_bending_entry(m, [&](int p, int q, double) {
+    const int* slots = &m_bending_slots[3 * e++];
+    if (p != q && (touching[p] || touching[q])) transform(slots, p, q, false);
   });
   for (const ContactConstraint& c : contacts) {
     transform(&m_diag_slots[3 * Eigen::Index(c.particle)], c.particle, c.particle, true);

@@ -1,6 +1,7 @@
 #pragma once
 /// @file implicit_matrix.hpp
-/// The Newton matrix of implicit Euler, A = M + h drag I - h D - h^2 K, assembled into a
+/// The Newton matrix of implicit Euler, A = M + h drag I - h D - h^2 K (K with the hinge
+/// bending's constant -Q on every axis, bending_form.hpp), assembled into a
 /// sparsity pattern fixed per scene so that a direct solver reuses its symbolic factorisation.
 ///
 /// Unknowns are interleaved, 3 p + r for axis r of particle p. K = df/dx comes from the
@@ -79,9 +80,10 @@ class ImplicitMatrix {
   std::vector<Matrix3> m_filter;    // apply_contacts(whole): per particle I - n n^T, or I
   std::vector<char> m_touching;     // apply_contacts(whole): per particle, 1 if in contact
   std::vector<int> m_spring_slots;  // per spring 4 blocks (pp, qq, pq, qp) by 3 columns
-  std::vector<int> m_diag_slots;    // per particle and column, the offset of row 3 p
-  std::vector<int> m_held_zero;     // off-diagonal entries in a held row or column
-  std::vector<int> m_held_one;      // diagonal entries of held axes
+  std::vector<int> m_bending_slots;  // per entry of the hinge bending's Q, its block's 3 columns
+  std::vector<int> m_diag_slots;     // per particle and column, the offset of row 3 p
+  std::vector<int> m_held_zero;      // off-diagonal entries in a held row or column
+  std::vector<int> m_held_one;       // diagonal entries of held axes
 };
 
 }  // namespace cloth

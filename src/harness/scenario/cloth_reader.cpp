@@ -70,6 +70,30 @@ void read_mass(const Reader& r, const At& at, bool mesh, cloth::ClothParams& c) 
   c.areal_density = r.number(at, "areal_density", c.areal_density, kMass);
 }
 
+/// cloth.bend_model and cloth.bending_rigidity, after the stiffness table: the hinge model
+/// needs a rigidity and has no bend springs, the springs take no rigidity.
+void read_bend_model(const Reader& r, const At& at, cloth::ClothParams& c) {
+  const bool hinge = r.choice(at, "bend_model", "springs", kBendModels) == "hinge";
+  const toml::node* rigidity = at.table.get("bending_rigidity");
+  if (!hinge) {
+    if (rigidity)
+      r.fail(rigidity, "cloth.bending_rigidity",
+             "applies to bend_model = \"hinge\"; bend springs take cloth.stiffness.bend (N/m)");
+    return;
+  }
+  c.bend_model = cloth::BendModel::hinge;
+  if (!rigidity)
+    r.fail(&at.table, "cloth.bending_rigidity",
+           "bend_model = \"hinge\" needs bending_rigidity = B (N m), > 0");
+  c.bending_rigidity = r.number(at, "bending_rigidity", 0.0, kPositive);
+  // the hinge model replaces the bend springs
+  const toml::table* st = r.table(at, "stiffness");
+  if (const toml::node* bend = st ? st->get("bend") : nullptr; bend && c.k_bend > 0)
+    r.fail(bend, "cloth.stiffness.bend",
+           "bend_model = \"hinge\" has no bend springs: leave bend out of the table (or 0)");
+  c.k_bend = 0.0;
+}
+
 /// cloth.stiffness, cloth.damping and cloth.air_drag; a mesh has no shear springs.
 void read_material(const Reader& r, const At& at, bool mesh, cloth::ClothParams& c) {
   // a stiffness table names the spring kinds there are; an omitted kind has no springs
@@ -86,6 +110,7 @@ void read_material(const Reader& r, const At& at, bool mesh, cloth::ClothParams&
   } else if (mesh) {
     c.k_shear = 0.0;
   }
+  read_bend_model(r, at, c);
   c.damping = r.number(at, "damping", c.damping, kNonNegative);
   c.air_drag = r.number(at, "air_drag", c.air_drag, kNonNegative);
   c.self_collision = r.boolean(at, "self_collision", c.self_collision);

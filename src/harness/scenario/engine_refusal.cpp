@@ -2,6 +2,7 @@
 
 #include <stdexcept>
 
+#include "cloth/model/integrator.hpp"
 #include "harness/io/user_error.hpp"
 #include "reference/bullet/bullet_deformable.hpp"
 #include "reference/bullet/bullet_softbody.hpp"
@@ -41,9 +42,30 @@ SelfCollision self_collision_of(const EngineSpec& spec, const cloth::ClothParams
 
 std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
                                                  const cloth::Scene& scene) {
+  // the Bullet engines bend with springs only; which spring stiffness matches a rigidity is
+  // what a calibration finds, so none is made up here
+  if (spec.kind != EngineKind::custom && scene.cloth.bend_model == cloth::BendModel::hinge)
+    return reference::Refusal{std::string(engine_kind_name(spec.kind)) +
+                                  " bends with springs only and cannot model bend_model = "
+                                  "\"hinge\": run it on a copy of the scene with bend_model = "
+                                  "\"springs\" and cloth.stiffness.bend",
+                              {"cloth.bend_model", "cloth.bending_rigidity"},
+                              {}};
   switch (spec.kind) {
-    case EngineKind::custom:
+    case EngineKind::custom: {
+      // xpbd and projective work on springs alone: a constraint per spring, a spring per
+      // projection; the hinge model's form is neither
+      const cloth::Integrator i = spec.solver.integrator;
+      if (scene.cloth.bend_model == cloth::BendModel::hinge &&
+          (i == cloth::Integrator::xpbd || i == cloth::Integrator::projective))
+        return reference::Refusal{std::string("the custom engine's ") + cloth::integrator_name(i) +
+                                      " integrator works on springs alone and cannot model "
+                                      "bend_model = \"hinge\": choose another integrator, or "
+                                      "bend_model = \"springs\"",
+                                  {"cloth.bend_model"},
+                                  {"integrator"}};
       return std::nullopt;
+    }
     case EngineKind::bullet_deformable: {
       // the engine sees the cloth with its own self-collision setting
       cloth::Scene own = scene;

@@ -33,7 +33,8 @@ const char* self_collision_name(SelfCollision s);
 SelfCollision self_collision_of(const EngineSpec& spec, const cloth::ClothParams& cloth);
 
 /// Why an engine of spec cannot model scene (the feature, and the scenario keys to blame), or
-/// nullopt when it can. Pure: nothing is constructed. The custom engine models every scene.
+/// nullopt when it can. Pure: nothing is constructed. The custom engine models every scene
+/// except bend_model = "hinge" with xpbd or projective; the Bullet engines refuse the hinge.
 std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec, const cloth::Scene& scene);
 
 /// Throws UserError naming the engine, context (what was changed, e.g. "at dt = 0.002 s") and

@@ -23,6 +23,8 @@ using Keys = std::vector<std::string_view>;
 extern const Keys kTopKeys;
 extern const Keys kClothKeys;
 extern const Keys kStiffnessKeys;
+/// Values of cloth.bend_model.
+extern const Keys kBendModels;
 extern const Keys kGenerateKeys;  // [cloth.generate]
 extern const Keys kConstraintKeys;
 extern const Keys kSphereKeys;

@@ -208,6 +208,13 @@ void cloth_keys(std::vector<ScenarioKey>& out) {
           "",
           "spring constants by kind; a kind left out of the table has no springs. The same "
           "constants on a mesh and on a grid are different fabrics: the springs per area differ");
+  r.other("bend_model", "string", "", "\"springs\"", "one of \"springs\", \"hinge\"",
+          "how the cloth resists bending: bend springs (cloth.stiffness.bend), or the hinge "
+          "model's quadratic bending energy with bending_rigidity and no bend springs (custom "
+          "engine: not with xpbd or projective; refused by the Bullet engines)");
+  r.other("bending_rigidity", "number", "N m", "none", "> 0; only with bend_model = \"hinge\"",
+          "the hinge model's bending rigidity B per unit width: a sheet bent to curvature k stores "
+          "B k^2 / 2 per unit area");
   r.number("damping", "N s/m", c.damping, kNonNegative, "damper along every spring");
   r.number("air_drag", "N s/m", c.air_drag, kNonNegative,
            "viscous drag of every particle against the wind");

@@ -154,8 +154,10 @@ void write_cloth(std::ostream& o, const Scenario& s) {
     o << "particle_mass = " << d(c.particle_mass) << "  # kg\n";
   o << "stiffness = { structural = " << d(c.k_structural);
   if (!s.mesh.any()) o << ", shear = " << d(c.k_shear);
-  o << ", bend = " << d(c.k_bend) << " }  # N/m\n"
-    << "damping = " << d(c.damping) << "  # N s/m\n"
+  o << ", bend = " << d(c.k_bend) << " }  # N/m\n";
+  if (c.bend_model == cloth::BendModel::hinge)
+    o << "bend_model = \"hinge\"\nbending_rigidity = " << d(c.bending_rigidity) << "  # N m\n";
+  o << "damping = " << d(c.damping) << "  # N s/m\n"
     << "air_drag = " << d(c.air_drag) << "  # N s/m\n"
     << "self_collision = " << (c.self_collision ? "true" : "false") << "\n"
     << "thickness = " << d(c.thickness) << "  # m\n"
