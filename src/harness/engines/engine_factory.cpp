@@ -7,8 +7,8 @@
 #include "cloth/integrators/mass_spring_cloth.hpp"
 #include "reference/bullet/bullet_deformable.hpp"
 #include "reference/bullet/bullet_softbody.hpp"
-#include "reference/mujoco/mujoco_cloth.hpp"
 #include "reference/external/external_engine.hpp"
+#include "reference/mujoco/mujoco_cloth.hpp"
 
 namespace clothbench {
 

@@ -12,8 +12,8 @@
 #include "cloth/solvers/solver_options.hpp"
 #include "harness/scenario/engine_kind.hpp"
 #include "reference/bullet/bullet_options.hpp"
-#include "reference/mujoco/mujoco_options.hpp"
 #include "reference/external/external_options.hpp"
+#include "reference/mujoco/mujoco_options.hpp"
 
 namespace clothbench {
 
@@ -44,10 +44,10 @@ struct HandleSpec {
 struct EngineSpec {
   std::string name;  // unique within the scenario
   EngineKind kind = EngineKind::custom;
-  double dt = 1e-3;                    // s
-  cloth::SolverOptions solver;         // kind = custom
-  reference::BulletOptions bullet;     // kind = bullet-*
-  reference::MujocoOptions mujoco;     // kind = mujoco
+  double dt = 1e-3;                     // s
+  cloth::SolverOptions solver;          // kind = custom
+  reference::BulletOptions bullet;      // kind = bullet-*
+  reference::MujocoOptions mujoco;      // kind = mujoco
   reference::ExternalOptions external;  // kind = external
   std::optional<bool> self_collision;   // the engine's own setting; unset: the cloth's
 };
