@@ -27,6 +27,8 @@ Command add_map_command(CLI::App& app);
 Command add_merge_command(CLI::App& app);
 /// `clothbench accuracy`: error against a fine reference and cost over a time-step sweep.
 Command add_accuracy_command(CLI::App& app);
+/// `clothbench fit`: each engine's parameters fitted so that its metrics hit their targets.
+Command add_fit_command(CLI::App& app);
 /// `clothbench check`: the regression gates against the recorded baselines.
 Command add_check_command(CLI::App& app);
 /// `clothbench report`: analysis/report.py on an output folder.

@@ -312,10 +312,37 @@ std::string markdown_cell(std::string_view text) {
   return out;
 }
 
+// clothbench fit: the parameters that make each engine's metrics hit their targets
+std::vector<OutputFile> fit_files() {
+  return {{"fit.csv",
+           "clothbench fit, in its output folder",
+           "one target metric of one engine: the parameter fitted for it and what it reached",
+           {kEngine,
+            {"parameter", "text",
+             "the scenario key fitted, as --set takes it (engine.KEY: the engine's own key; "
+             "a+b: both set to the value)"},
+            {"value", "as the key", "the fitted value: the best run's"},
+            {"metric", "text", "the target metric (a [test] metric or drape_coefficient)"},
+            {"target", "as the metric", "the value asked for"},
+            {"achieved", "as the metric",
+             "the metric at the fitted values of every parameter of the engine; empty when no "
+             "run gave it"},
+            {"relative_error", "1", "(achieved - target) / |target|"},
+            {"runs", "count", "runs this fit made (its bracket and secant steps, and the check)"},
+            {"sensitivity", "metric unit per parameter unit",
+             "d metric / d parameter between the two runs nearest the fitted value; empty with "
+             "fewer than two runs that gave the metric"},
+            {"status", "text",
+             "converged (within tolerance), unreachable (the target lies beyond what the "
+             "parameter's range or the engine's stability gives: value is the best reached), "
+             "budget (--max-runs spent), failed (no run gave the metric), no engine (the "
+             "metric's scenario has no such engine)"}}}};
+}
+
 const std::vector<OutputFile>& output_files() {
   static const std::vector<OutputFile> files = [] {
     std::vector<OutputFile> all = run_files();
-    for (auto group : {comparison_files(), sweep_files(), baseline_files()})
+    for (auto group : {comparison_files(), sweep_files(), fit_files(), baseline_files()})
       all.insert(all.end(), group.begin(), group.end());
     return all;
   }();

@@ -19,6 +19,7 @@
 #include "harness/io/staged_folder.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/build_info.hpp"
+#include "harness/run/engine_metric.hpp"
 #include "harness/run/ensemble_member.hpp"
 #include "harness/run/mesh_file.hpp"
 #include "harness/run/trajectory_files.hpp"
@@ -154,7 +155,7 @@ std::unique_ptr<cloth::Simulator> start_engine(const Scenario& sc, const EngineS
                                                const cloth::Model& model, bool keep_positions,
                                                EngineRun& run) {
   try {
-    return make_engine(spec, sc.scene);
+    return make_engine(spec, engine_scene(sc, spec));
   } catch (const cloth::EngineFailure& e) {
     const cloth::Matrix3X v0 = cloth::Matrix3X::Zero(3, model.particle_count());
     const double e0 = cloth::compute_energies(model, model.x0, v0).total();
@@ -174,8 +175,11 @@ std::unique_ptr<cloth::Simulator> start_engine(const Scenario& sc, const EngineS
 
 }  // namespace
 
-EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
+EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& scene_model,
                      Progress* progress, bool keep_positions) {
+  // an engine with overrides is measured in its own scene's model (same particles, own forces)
+  const cloth::Model own = spec.scene ? cloth::build_model(*spec.scene) : cloth::Model{};
+  const cloth::Model& model = spec.scene ? own : scene_model;
   EngineRun run;
   run.spec = spec;
   auto sim = start_engine(sc, spec, model, keep_positions, run);
@@ -280,7 +284,14 @@ RunResult run_scenario(const Scenario& unperturbed, const RunOptions& options) {
   }
   // a scene an engine refuses fails before any work (the loader refused it already, unless
   // the caller changed the scene since)
-  for (int i : chosen) require_engine_can_model(sc.engines[static_cast<size_t>(i)], sc.scene, "");
+  // an engine's own scene is perturbed as the scenario's is
+  for (int i : chosen) {
+    EngineSpec& e = sc.engines[static_cast<size_t>(i)];
+    if (e.scene)
+      e.scene = std::make_shared<const cloth::Scene>(
+          perturbed_scene(*e.scene, options.member, options.member_seed));
+    require_engine_can_model(e, engine_scene(sc, e), "");
+  }
 
   double total_steps = 0;
   for (int i : chosen) total_steps += double(planned_steps(sc, sc.engines[static_cast<size_t>(i)]));
@@ -369,13 +380,44 @@ std::string facts_json() {
   return o.str();
 }
 
-/// Each engine's self-collision ("on", "off" or "not available"), as a JSON member.
+/// s as a JSON string, quoted and escaped.
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\u%04x", c);
+      out += hex;
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+/// Each engine's self-collision ("on", "off" or "not available") and, when any engine has
+/// some, each engine's overrides (key path: value as TOML text), as JSON members.
 std::string self_collision_json(const Scenario& s) {
   std::ostringstream o;
   o << "  \"self_collision\": {";
   for (size_t k = 0; k < s.engines.size(); ++k)
     o << (k ? ", " : "") << "\"" << s.engines[k].name << "\": \""
-      << self_collision_name(self_collision_of(s.engines[k], s.scene.cloth)) << "\"";
+      << self_collision_name(self_collision_of(s.engines[k], engine_scene(s, s.engines[k]).cloth))
+      << "\"";
+  o << "},\n";
+  // each engine's own scene keys, when any engine has some
+  if (std::none_of(s.engines.begin(), s.engines.end(),
+                   [](const EngineSpec& e) { return !e.overrides.empty(); }))
+    return o.str();
+  o << "  \"overrides\": {";
+  for (size_t k = 0; k < s.engines.size(); ++k) {
+    o << (k ? ", " : "") << "\"" << s.engines[k].name << "\": {";
+    for (size_t j = 0; j < s.engines[k].overrides.size(); ++j)
+      o << (j ? ", " : "") << json_string(s.engines[k].overrides[j].first) << ": "
+        << json_string(s.engines[k].overrides[j].second);
+    o << "}";
+  }
   o << "},\n";
   return o.str();
 }
@@ -479,26 +521,15 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
 /// tests.csv: the [test]'s metrics of every engine's final state (empty values for a run that
 /// did not end stable: its final shape is not a settled strip).
 void write_tests(const RunResult& result, CsvWriter& tests) {
-  const Scenario& sc = result.scenario;
-  const cloth::Model& model = result.model;
-  const double area = sc.scene.mesh ? cloth::mesh_area(*sc.scene.mesh)
-                                    : sc.scene.cloth.size_u * sc.scene.cloth.size_v;
-  const double areal_density = model.mass.sum() / area;
-  for (const EngineRun& run : result.runs) {
-    CantileverMetrics m{};
-    const bool settled = run.stable && !run.snapshots.empty();
-    if (settled)
-      m = cantilever_metrics(model.x0, sc.scene.held, run.snapshots.back(), sc.scene.gravity,
-                             areal_density, sc.test.edge);
-    for (const TestMetric& row : cantilever_rows(m)) {
+  for (const EngineRun& run : result.runs)
+    for (const TestMetric& row : test_metrics(result, run)) {
       tests.add(run.spec.name).add(row.metric);
-      if (settled && std::isfinite(row.value))
+      if (std::isfinite(row.value))
         tests.add(row.value);
       else
         tests.skip();
       tests.add(row.unit).end_row();
     }
-  }
 }
 
 }  // namespace

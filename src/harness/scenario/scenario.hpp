@@ -3,8 +3,10 @@
 /// A scenario: one physical scene, how long and how often to log it, and the engines to run.
 /// Filled by scenario_loader from a TOML file; read by the runner and the engine factory.
 
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cloth/model/mesh_generator.hpp"
@@ -50,6 +52,11 @@ struct EngineSpec {
   reference::MujocoOptions mujoco;      // kind = mujoco
   reference::ExternalOptions external;  // kind = external
   std::optional<bool> self_collision;   // the engine's own setting; unset: the cloth's
+  std::vector<std::pair<std::string, std::string>> overrides;  // its own scene keys: (key path
+                                                               // as --set takes it, value as
+                                                               // TOML text), in file order
+  std::shared_ptr<const cloth::Scene> scene;  // the scene its overrides give (same rest shape and
+                                              // held particles); null: the scenario's
 };
 
 /// Where a mesh cloth comes from: an OBJ file (cloth.mesh) or a generated shape
@@ -101,6 +108,9 @@ struct Scenario {
   /// The reference engine's index in engines.
   int reference_index() const;
 };
+
+/// The scene engine e runs: its own (EngineSpec::scene) when its overrides give one, else s.scene.
+const cloth::Scene& engine_scene(const Scenario& s, const EngineSpec& e);
 
 /// Held-axis mask (#P entries) of the constraints on the cloth of scene (its grid or mesh;
 /// within and box test rest positions).

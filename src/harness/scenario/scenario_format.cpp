@@ -52,7 +52,7 @@ const Keys kBoxKeys = {"center", "half_extents"};
 const Keys kCapsuleKeys = {"a", "b", "radius"};
 const Keys kCylinderKeys = {"center", "radius", "height"};
 const Keys kHandleKeys = {"select", "center", "radius", "list", "name", "min", "max", "path"};
-const Keys kEngineCommonKeys = {"name", "kind", "dt", "self_collision"};
+const Keys kEngineCommonKeys = {"name", "kind", "dt", "self_collision", "overrides"};
 
 namespace {
 

@@ -389,6 +389,11 @@ void engine_keys(std::vector<ScenarioKey>& out) {
   r.other("self_collision", "boolean", "", "the cloth's self_collision", "true or false",
           "this engine's self-contact, overriding the cloth's; true is refused on "
           "bullet-softbody and mujoco, which have none");
+  r.other("overrides", "table", "", "{}",
+          "--set key paths under cloth, gravity, wind and the colliders; same rest shape and "
+          "held particles",
+          "this engine's own scene values, e.g. { \"cloth.stiffness.bend\" = 3.2 } (what "
+          "clothbench fit writes); the others run the file's");
   custom_engine_keys(out);
   const reference::BulletOptions b;
   Rows d(out, "engine", engine_kind_name(EngineKind::bullet_deformable));

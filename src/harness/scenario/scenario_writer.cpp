@@ -217,6 +217,13 @@ std::string scenario_to_toml(const Scenario& s) {
       << "dt = " << d(e.dt) << "  # s\n";
     if (e.self_collision)
       o << "self_collision = " << (*e.self_collision ? "true" : "false") << "\n";
+    // the engine's own scene keys, as the file gave them
+    if (!e.overrides.empty()) {
+      o << "overrides = { ";
+      for (size_t k = 0; k < e.overrides.size(); ++k)
+        o << (k ? ", " : "") << toml_string(e.overrides[k].first) << " = " << e.overrides[k].second;
+      o << " }\n";
+    }
     if (e.kind == EngineKind::custom) {
       write_custom_options(o, e.solver);
     } else if (e.kind == EngineKind::bullet_deformable) {
