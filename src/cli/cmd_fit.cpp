@@ -2,6 +2,7 @@
 /// `clothbench fit`: each engine's parameters fitted so that its metrics hit their targets.
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -11,7 +12,6 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
-#include "format/number_format.hpp"
 #include "harness/io/output_lock.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/sweeps/fit_sweep.hpp"
@@ -59,6 +59,13 @@ FitRange parse_range(const std::string& text) {
   return r;
 }
 
+/// v with 4 significant digits, for the terminal (fit.csv has every digit).
+std::string short_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
 /// One line per row: what each engine reached, and why a fit stopped short.
 void print_summary(const FitOutcome& outcome) {
   for (const FitRow& r : outcome.rows) {
@@ -67,9 +74,9 @@ void print_summary(const FitOutcome& outcome) {
       std::cout << "not fitted: " << r.note << "\n";
       continue;
     }
-    std::cout << (std::isfinite(r.achieved) ? cloth::shortest_decimal(r.achieved) : "no value")
-              << " (target " << cloth::shortest_decimal(r.target) << ") at " << r.parameter << " = "
-              << cloth::shortest_decimal(r.value) << ", " << r.runs << " runs, " << r.status;
+    std::cout << (std::isfinite(r.achieved) ? short_number(r.achieved) : "no value") << " (target "
+              << short_number(r.target) << ") at " << r.parameter << " = " << short_number(r.value)
+              << ", " << r.runs << " runs, " << r.status;
     if (r.status != "converged") std::cout << ": " << r.note << "; the best reached is given";
     std::cout << "\n";
   }

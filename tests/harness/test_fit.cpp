@@ -51,6 +51,9 @@ TEST_CASE("fit recovers a known bend stiffness from its own synthetic target", "
   o.engines = {engine};
   o.targets = {{"bending_length", m0}};
   o.progress = false;
+  // a tenth of the issue's 3 %: the bending length moves slowly with k (as k^0.07 to k^0.15
+  // here), and the recovered k is only as close as tolerance / that exponent
+  o.tolerance = 0.003;
   const FitOutcome out = run_fit(o);
   REQUIRE(out.rows.size() == 1);
   const FitRow& row = out.rows[0];

@@ -3,10 +3,12 @@
 #include <toml++/toml.h>
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <regex>
 #include <sstream>
 
 #include "format/number_format.hpp"
@@ -155,11 +157,10 @@ FitSolverOptions solver_options(FitJob& job, size_t t, const EngineSpec& e, cons
 /// The progress line of one run: parameter value, metric and target.
 void show_run(const FitJob& job, const FitRow& row, int n, double p, double m) {
   if (!job.o.progress) return;
-  std::cerr << "fit " << row.engine << " " << row.metric << ": run " << n << ", " << row.parameter
-            << " = " << cloth::shortest_decimal(p) << " -> "
-            << (std::isfinite(m) ? cloth::shortest_decimal(m) : std::string("no value"))
-            << " (target " << cloth::shortest_decimal(row.target) << ")\n"
-            << std::flush;
+  char line[256];
+  std::snprintf(line, sizeof line, "fit %s %s: run %d, %s = %.4g -> %.4g (target %.4g)\n",
+                row.engine.c_str(), row.metric.c_str(), n, row.parameter.c_str(), p, m, row.target);
+  std::cerr << line << std::flush;
 }
 
 /// Fits target t on engine; the row says how.
@@ -299,6 +300,20 @@ void absolute_mesh(toml::table& root, const std::string& path) {
   *mesh = (folder / mesh->get()).lexically_normal().string();
 }
 
+/// text with every float of 16 or more digits (how the TOML writer prints 0.2) shortened to
+/// the shortest decimal that reads back as the same double.
+std::string shortest_floats(const std::string& text) {
+  static const std::regex long_float(R"([-+]?\d+\.\d{12,}(e[-+]?\d+)?)");
+  std::string out;
+  auto last = text.cbegin();
+  for (std::sregex_iterator it(text.begin(), text.end(), long_float), end; it != end; ++it) {
+    out.append(last, (*it)[0].first);
+    out += cloth::toml_double(std::stod(it->str()));
+    last = (*it)[0].second;
+  }
+  return out.append(last, text.cend());
+}
+
 }  // namespace
 
 std::string fitted_scenario_text(const std::string& path, const FitOptions& o,
@@ -329,7 +344,7 @@ std::string fitted_scenario_text(const std::string& path, const FitOptions& o,
   text << "# " << std::filesystem::path(path).filename().string()
        << " with each engine's values fitted by clothbench fit (fit.csv beside this folder)\n"
        << root << "\n";
-  return text.str();
+  return shortest_floats(text.str());
 }
 
 void write_fit(const FitOptions& o, const FitOutcome& outcome, const std::string& dir) {
