@@ -175,11 +175,11 @@ std::unique_ptr<cloth::Simulator> start_engine(const Scenario& sc, const EngineS
 
 }  // namespace
 
-EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& scene_model,
-                     Progress* progress, bool keep_positions) {
-  // an engine with overrides is measured in its own scene's model (same particles, own forces)
-  const cloth::Model own = spec.scene ? cloth::build_model(*spec.scene) : cloth::Model{};
-  const cloth::Model& model = spec.scene ? own : scene_model;
+namespace {
+
+/// run_engine on model, the engine's own scene's.
+EngineRun run_engine_on(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
+                        Progress* progress, bool keep_positions) {
   EngineRun run;
   run.spec = spec;
   auto sim = start_engine(sc, spec, model, keep_positions, run);
@@ -255,6 +255,15 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   }
   finish_run(run, *sim, model);
   return run;
+}
+
+}  // namespace
+
+EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
+                     Progress* progress, bool keep_positions) {
+  // an engine with overrides is measured in its own scene's model (same particles, own forces)
+  if (!spec.scene) return run_engine_on(sc, spec, model, progress, keep_positions);
+  return run_engine_on(sc, spec, cloth::build_model(*spec.scene), progress, keep_positions);
 }
 
 RunResult run_scenario(const Scenario& unperturbed, const RunOptions& options) {
