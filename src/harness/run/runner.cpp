@@ -14,6 +14,7 @@
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/engines/engine_factory.hpp"
 #include "harness/fabric/cantilever_metrics.hpp"
+#include "harness/fabric/drape_metrics.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/staged_folder.hpp"
@@ -476,21 +477,35 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
   }
 }
 
-/// tests.csv: the [test]'s metrics of every engine's final state (empty values for a run that
-/// did not end stable: its final shape is not a settled strip).
-void write_tests(const RunResult& result, CsvWriter& tests) {
+/// The [test]'s metrics of one engine's settled final state x.
+std::vector<TestMetric> test_rows(const RunResult& result, const EngineRun& run,
+                                  const cloth::Matrix3X& x) {
   const Scenario& sc = result.scenario;
   const cloth::Model& model = result.model;
+  if (sc.test.kind == "drape") {
+    // the support's axis through the held particles' centroid
+    cloth::Vector3 centre = cloth::Vector3::Zero();
+    int held = 0;
+    for (size_t p = 0; p < sc.scene.held.size(); ++p)
+      if (sc.scene.held[p]) centre += x.col(Eigen::Index(p)), ++held;
+    const DrapeProfile profile =
+        drape_profile(x, model.triangles, centre / std::max(held, 1), sc.scene.gravity);
+    return drape_rows(profile, final_drape_coefficient(result, run));
+  }
   const double area = sc.scene.mesh ? cloth::mesh_area(*sc.scene.mesh)
                                     : sc.scene.cloth.size_u * sc.scene.cloth.size_v;
-  const double areal_density = model.mass.sum() / area;
+  return cantilever_rows(cantilever_metrics(model.x0, sc.scene.held, x, sc.scene.gravity,
+                                            model.mass.sum() / area, sc.test.edge));
+}
+
+/// tests.csv: the [test]'s metrics of every engine's final state (empty values for a run that
+/// did not end stable: its final shape is not a settled cloth).
+void write_tests(const RunResult& result, CsvWriter& tests) {
+  const cloth::Matrix3X rest = result.model.x0;
   for (const EngineRun& run : result.runs) {
-    CantileverMetrics m{};
     const bool settled = run.stable && !run.snapshots.empty();
-    if (settled)
-      m = cantilever_metrics(model.x0, sc.scene.held, run.snapshots.back(), sc.scene.gravity,
-                             areal_density, sc.test.edge);
-    for (const TestMetric& row : cantilever_rows(m)) {
+    // an unsettled run's rows name the metrics with empty values
+    for (const TestMetric& row : test_rows(result, run, settled ? run.snapshots.back() : rest)) {
       tests.add(run.spec.name).add(row.metric);
       if (settled && std::isfinite(row.value))
         tests.add(row.value);
