@@ -35,6 +35,8 @@ Command add_check_command(CLI::App& app);
 Command add_report_command(CLI::App& app);
 /// `clothbench export`: analysis/export.py (OBJ and VTK sequences of a run's trajectories).
 Command add_export_command(CLI::App& app);
+/// `clothbench gallery`: analysis/gallery.py (one page of several runs' final shapes).
+Command add_gallery_command(CLI::App& app);
 /// Runs analysis/<name> with Debian's python3 (CLOTHBENCH_PYTHON overrides) and args; returns
 /// its exit status (128 + the signal that ended it); a python that cannot start is exit 2.
 int run_analysis_script(const std::string& name, const std::vector<std::string>& args);

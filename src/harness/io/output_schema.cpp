@@ -135,11 +135,13 @@ std::vector<OutputFile> comparison_files() {
            {kEngine,
             {"metric", "text",
              "cantilever: chord_angle, tip_deflection, overhang, bending_length (the elastica's), "
-             "bending_length_peirce, flexural_rigidity"},
+             "bending_length_peirce, flexural_rigidity; drape: drape_coefficient, folds (local "
+             "maxima of the outline's radius around the support's axis, smoothed over 10 "
+             "degrees), min_radius and max_radius of that smoothed outline"},
             {"value", "as unit",
              "the metric's value; empty when undefined (the run blew up, or "
              "a chord angle the elastica cannot invert)"},
-            {"unit", "text", "the value's unit: deg, m or N m"}}},
+            {"unit", "text", "the value's unit: deg, m, N m or 1"}}},
           {"divergence.csv",
            "clothbench run, in the run folder",
            "one engine other than the reference at one frame both logged",

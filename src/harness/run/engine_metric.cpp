@@ -4,22 +4,45 @@
 #include <cmath>
 
 #include "cloth/model/triangle_mesh.hpp"
+#include "harness/fabric/drape_metrics.hpp"
 
 namespace clothbench {
 
-std::vector<TestMetric> test_metrics(const RunResult& result, const EngineRun& run) {
+namespace {
+
+/// The [test]'s metrics of one engine's final state x (a settled one, or the rest shape for
+/// the names alone).
+std::vector<TestMetric> test_rows(const RunResult& result, const EngineRun& run,
+                                  const cloth::Matrix3X& x) {
   const Scenario& sc = result.scenario;
-  if (sc.test.kind != "cantilever") return {};
   const cloth::Model& model = result.model;
+  if (sc.test.kind == "drape") {
+    // the support's axis through the held particles' centroid
+    cloth::Vector3 centre = cloth::Vector3::Zero();
+    int held = 0;
+    for (size_t p = 0; p < sc.scene.held.size(); ++p)
+      if (sc.scene.held[p]) {
+        centre += x.col(Eigen::Index(p));
+        ++held;
+      }
+    const DrapeProfile profile =
+        drape_profile(x, model.triangles, centre / std::max(held, 1), sc.scene.gravity);
+    return drape_rows(profile, final_drape_coefficient(result, run));
+  }
   const double area = sc.scene.mesh ? cloth::mesh_area(*sc.scene.mesh)
                                     : sc.scene.cloth.size_u * sc.scene.cloth.size_v;
-  const double areal_density = model.mass.sum() / area;
-  CantileverMetrics m{};
+  return cantilever_rows(cantilever_metrics(model.x0, sc.scene.held, x, sc.scene.gravity,
+                                            model.mass.sum() / area, sc.test.edge));
+}
+
+}  // namespace
+
+std::vector<TestMetric> test_metrics(const RunResult& result, const EngineRun& run) {
+  if (result.scenario.test.kind.empty()) return {};
+  // an unsettled run's rows name the metrics with empty values
   const bool settled = run.stable && !run.snapshots.empty();
-  if (settled)
-    m = cantilever_metrics(model.x0, sc.scene.held, run.snapshots.back(), sc.scene.gravity,
-                           areal_density, sc.test.edge);
-  std::vector<TestMetric> rows = cantilever_rows(m);
+  std::vector<TestMetric> rows =
+      test_rows(result, run, settled ? run.snapshots.back() : result.model.x0);
   for (TestMetric& row : rows)
     if (!settled || !std::isfinite(row.value)) row.value = NAN;
   return rows;
@@ -41,7 +64,14 @@ std::vector<std::string> metric_names(const Scenario& s) {
   // the rows a [test] writes, whatever their values
   if (s.test.kind == "cantilever")
     for (const TestMetric& row : cantilever_rows(CantileverMetrics{})) names.push_back(row.metric);
-  if (has_support(s) || !s.scene.shapes.cylinders.empty()) names.push_back("drape_coefficient");
+  if (s.test.kind == "drape") {
+    DrapeProfile flat;
+    flat.radius.assign(kDrapeProfileBins, 0.0);
+    for (const TestMetric& row : drape_rows(flat, NAN)) names.push_back(row.metric);
+  }
+  const bool listed = std::find(names.begin(), names.end(), "drape_coefficient") != names.end();
+  if (!listed && (has_support(s) || !s.scene.shapes.cylinders.empty()))
+    names.push_back("drape_coefficient");
   return names;
 }
 

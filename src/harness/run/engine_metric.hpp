@@ -13,13 +13,13 @@
 
 namespace clothbench {
 
-/// The [test]'s metrics of run's final state, as tests.csv has them (empty for a scenario
-/// without a [test]); values NaN when the run did not end stable (its final shape is not a
-/// settled one) or the metric is undefined.
+/// The [test]'s metrics of run's final state (cantilever: cantilever_rows, drape: drape_rows),
+/// as tests.csv has them (empty for a scenario without a [test]); values NaN when the run did
+/// not end stable (its final shape is not a settled one) or the metric is undefined.
 std::vector<TestMetric> test_metrics(const RunResult& result, const EngineRun& run);
 
-/// The names of the metrics a run of s gives: its [test]'s, and drape_coefficient when s has a
-/// support (a held disk).
+/// The names of the metrics a run of s gives: its [test]'s (cantilever, drape), and
+/// drape_coefficient (summary.csv) when s has a support (a held disk or a cylinder).
 std::vector<std::string> metric_names(const Scenario& s);
 
 /// The metric called name of run: a [test] metric first, else drape_coefficient. NaN when the

@@ -14,6 +14,7 @@
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/engines/engine_factory.hpp"
 #include "harness/fabric/cantilever_metrics.hpp"
+#include "harness/fabric/drape_metrics.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/staged_folder.hpp"
@@ -528,7 +529,7 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
 }
 
 /// tests.csv: the [test]'s metrics of every engine's final state (empty values for a run that
-/// did not end stable: its final shape is not a settled strip).
+/// did not end stable: its final shape is not a settled cloth).
 void write_tests(const RunResult& result, CsvWriter& tests) {
   for (const EngineRun& run : result.runs)
     for (const TestMetric& row : test_metrics(result, run)) {

@@ -73,9 +73,10 @@ struct MeshSource {
 /// A textile standard test the harness measures on every engine's final state ([test]).
 /// kind "cantilever" (ASTM D1388 option A, fixed overhang): the strip lies along +x and every
 /// particle with rest x <= edge is held on all axes by the scene's own [[constraint]]s (the
-/// loader checks it and adds none); the metrics go to tests.csv.
+/// loader checks it and adds none). kind "drape" (the Cusick test, BS 5058): a specimen hung
+/// from a held support ([[constraint]] within or disk). The metrics go to tests.csv.
 struct TestSpec {
-  std::string kind;   // "" (no test) or "cantilever"
+  std::string kind;   // "" (no test), "cantilever" or "drape"
   double edge = 0.0;  // m, cantilever: the platform's edge along x
 };
 

@@ -155,8 +155,9 @@ void test_keys(std::vector<ScenarioKey>& out) {
   const TestSpec t;
   Rows r(out, "test");
   r.choice("kind", "none (required)", kTestKinds,
-           "the test; only \"cantilever\" is measured so far (ASTM D1388 option A, fixed "
-           "overhang), the others are refused");
+           "the test: \"cantilever\" (ASTM D1388 option A, fixed overhang) or \"drape\" (the "
+           "Cusick test, BS 5058: a specimen hung from a support held by a [[constraint]] within "
+           "or disk); the others are refused so far");
   r.number("edge", "m", t.edge, kAnyNumber,
            "cantilever: the platform's edge; the strip lies along +x and every particle at rest "
            "x <= edge must be held on x, y and z by a [[constraint]]");

@@ -206,9 +206,8 @@ std::string scenario_to_toml(const Scenario& s) {
     o << "hold = " << toml_string(hold_letters(k.hold)) << "\n";
   }
   write_colliders(o, s);
-  if (!s.test.kind.empty())
-    o << "\n[test]\nkind = " << toml_string(s.test.kind) << "\nedge = " << d(s.test.edge)
-      << "  # m\n";
+  if (!s.test.kind.empty()) o << "\n[test]\nkind = " << toml_string(s.test.kind) << "\n";
+  if (s.test.kind == "cantilever") o << "edge = " << d(s.test.edge) << "  # m\n";
 
   for (const EngineSpec& e : s.engines) {
     o << "\n[[engine]]\n"

@@ -47,6 +47,25 @@ void check_cantilever(const Reader& r, const toml::table& t, const toml::table& 
            "expected a non-zero gravity with a cantilever test (the strip bends under its weight)");
 }
 
+/// The drape test's checks: a held support (a disk the drape coefficient can measure) and a
+/// weight.
+void check_drape(const Reader& r, const toml::table& t, const toml::table& root,
+                 const Scenario& s) {
+  if (t.get("edge"))
+    r.fail(t.get("edge"), "test.edge",
+           "expected no edge with a drape test (edge is the cantilever's)");
+  bool disk = false;
+  for (const ConstraintSpec& c : s.constraints)
+    disk = disk || c.select == "disk" || c.select == "within";
+  if (!disk)
+    r.fail(t.get("kind"), "test.kind",
+           "expected the specimen's support held by a [[constraint]] select = \"within\" (a mesh) "
+           "or \"disk\" (a grid) with a drape test, got none");
+  if (s.scene.gravity.norm() == 0)
+    r.fail(root.get("gravity") ? root.get("gravity") : &t, "gravity",
+           "expected a non-zero gravity with a drape test (the specimen hangs under its weight)");
+}
+
 }  // namespace
 
 void read_test(const Reader& r, const toml::table& root, Scenario& s) {
@@ -56,10 +75,11 @@ void read_test(const Reader& r, const toml::table& root, Scenario& s) {
   r.check_keys(at, kTestKeys);
   if (!t->get("kind")) r.fail(t, "test.kind", "expected a kind, got none");
   s.test.kind = r.choice(at, "kind", "", kTestKinds);
+  if (s.test.kind == "drape") return check_drape(r, *t, root, s);
   if (s.test.kind != "cantilever")
     r.fail(t->get("kind"), "test.kind",
            "the " + toml_string(s.test.kind) +
-               " test is not yet measured by the harness (only \"cantilever\" is, for now)");
+               " test is not yet measured by the harness (\"cantilever\" and \"drape\" are)");
   s.test.edge = r.number(at, "edge", s.test.edge, kAnyNumber);
   check_cantilever(r, *t, root, s);
 }

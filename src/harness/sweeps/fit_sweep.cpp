@@ -252,32 +252,61 @@ void keep_fitted(FitOutcome& outcome, const std::string& engine, const std::stri
 
 }  // namespace
 
+namespace {
+
+/// Passes over an engine's targets at most: a later target's fit can move an earlier one's
+/// metric, which the next pass fits again from there (coordinate descent over the parameters).
+constexpr int kFitPasses = 3;
+
+/// True when row's achieved metric is within the tolerance of its target.
+bool within(const FitOptions& o, const FitRow& row) {
+  const double tol =
+      row.metric == "drape_coefficient" ? kDrapeTolerance : o.tolerance * std::abs(row.target);
+  return std::abs(row.achieved - row.target) <= tol;
+}
+
+/// Fits every target on engine (see kFitPasses); appends its rows to the outcome.
+void fit_engine(FitJob& job, const std::string& engine) {
+  const FitOptions& o = job.o;
+  std::vector<FitRow> rows(o.targets.size());
+  std::vector<bool> todo(o.targets.size(), true);
+  for (int pass = 0; pass < kFitPasses; ++pass) {
+    for (size_t t = 0; t < o.targets.size(); ++t) {
+      if (!todo[t]) continue;
+      const int before = rows[t].runs;
+      rows[t] = fit_one(job, engine, t);
+      rows[t].runs += before;
+      if (rows[t].status != "no engine" && rows[t].status != "failed")
+        keep_fitted(job.outcome, engine, rows[t].parameter, rows[t].value);
+    }
+    if (o.targets.size() < 2) break;
+    // each metric again at the engine's values now; a converged one moved off is fitted again
+    bool done = true;
+    for (FitRow& row : rows) {
+      const size_t t = size_t(&row - rows.data());
+      todo[t] = false;
+      if (row.status == "no engine" || row.status == "failed") continue;
+      row.achieved = measure(job, row.scenario, engine, row.metric, {});
+      row.runs += 1;
+      todo[t] = row.status == "converged" && !within(o, row);
+      done = done && !todo[t];
+    }
+    if (done) break;
+  }
+  for (size_t t = 0; t < rows.size(); ++t)
+    if (todo[t]) {
+      rows[t].status = "budget";
+      rows[t].note = "the engine's other fits keep moving it off its target";
+    }
+  job.outcome.rows.insert(job.outcome.rows.end(), rows.begin(), rows.end());
+}
+
+}  // namespace
+
 FitOutcome run_fit(const FitOptions& o) {
   FitJob job{o, {}, {}, {}};
   plan(job);
-  for (const std::string& engine : engines_to_fit(job)) {
-    const size_t first = job.outcome.rows.size();
-    for (size_t t = 0; t < o.targets.size(); ++t) {
-      FitRow row = fit_one(job, engine, t);
-      if (row.status != "no engine" && row.status != "failed")
-        keep_fitted(job.outcome, engine, row.parameter, row.value);
-      job.outcome.rows.push_back(std::move(row));
-    }
-    // several targets: each metric again at every fitted value (a later fit moves an earlier)
-    if (o.targets.size() < 2) continue;
-    for (size_t k = first; k < job.outcome.rows.size(); ++k) {
-      FitRow& row = job.outcome.rows[k];
-      if (row.status == "no engine") continue;
-      row.achieved = measure(job, row.scenario, engine, row.metric, {});
-      row.runs += 1;
-      const double tol =
-          row.metric == "drape_coefficient" ? kDrapeTolerance : o.tolerance * std::abs(row.target);
-      if (row.status == "converged" && !(std::abs(row.achieved - row.target) <= tol)) {
-        row.status = "budget";
-        row.note = "moved off its target by the engine's later fits";
-      }
-    }
-  }
+  for (const std::string& engine : engines_to_fit(job)) fit_engine(job, engine);
   return std::move(job.outcome);
 }
 
