@@ -279,12 +279,12 @@ void fit_engine(FitJob& job, const std::string& engine) {
       if (rows[t].status != "no engine" && rows[t].status != "failed")
         keep_fitted(job.outcome, engine, rows[t].parameter, rows[t].value);
     }
+    std::fill(todo.begin(), todo.end(), false);
     if (o.targets.size() < 2) break;
     // each metric again at the engine's values now; a converged one moved off is fitted again
     bool done = true;
     for (FitRow& row : rows) {
       const size_t t = size_t(&row - rows.data());
-      todo[t] = false;
       if (row.status == "no engine" || row.status == "failed") continue;
       row.achieved = measure(job, row.scenario, engine, row.metric, {});
       row.runs += 1;
