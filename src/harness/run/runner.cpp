@@ -14,6 +14,7 @@
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/engines/engine_factory.hpp"
 #include "harness/fabric/cantilever_metrics.hpp"
+#include "harness/fabric/tensile_metrics.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/staged_folder.hpp"
@@ -476,28 +477,67 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
   }
 }
 
-/// tests.csv: the [test]'s metrics of every engine's final state (empty values for a run that
-/// did not end stable: its final shape is not a settled strip).
-void write_tests(const RunResult& result, CsvWriter& tests) {
+/// One engine's tests.csv rows; an undefined value is left empty.
+void add_test_rows(CsvWriter& tests, const std::string& engine,
+                   const std::vector<TestMetric>& rows) {
+  for (const TestMetric& row : rows) {
+    tests.add(engine).add(row.metric);
+    if (std::isfinite(row.value))
+      tests.add(row.value);
+    else
+      tests.skip();
+    tests.add(row.unit).end_row();
+  }
+}
+
+/// The strip-tensile curve of run: its stable frames (their positions kept); none for an engine
+/// whose forces are not the scene's springs (every engine but the custom one).
+std::vector<TensilePoint> strip_tensile_curve(const RunResult& result, const EngineRun& run) {
+  const Scenario& sc = result.scenario;
+  if (run.spec.kind != EngineKind::custom || run.positions.size() != run.frames.size()) return {};
+  const cloth::ClothParams& c = sc.scene.cloth;
+  const bool along_u = sc.test.direction == "u";
+  const cloth::Vector3 axis = along_u                       ? cloth::Vector3::UnitX()
+                              : c.plane == cloth::Plane::xy ? cloth::Vector3::UnitY()
+                                                            : cloth::Vector3::UnitZ();
+  const cloth::Handle& handle = sc.scene.handles.at(0);
+  const TensileSetup setup = tensile_setup(result.model.x0, sc.scene.held, handle.particles, axis,
+                                           along_u ? c.size_v : c.size_u);
+  std::vector<double> t;
+  std::vector<cloth::Matrix3X> x;
+  for (size_t k = 0; k < run.frames.size() && run.frames[k].stable; ++k) {
+    t.push_back(run.frames[k].t);
+    x.push_back(run.positions[k]);
+  }
+  return tensile_curve(result.model.springs, result.model.x0, setup, handle.motion, t, x);
+}
+
+/// tests.csv: the [test]'s metrics of every engine (a cantilever's from its final state, empty
+/// for a run that did not end stable: its final shape is not a settled strip; a strip-tensile's
+/// from its curve); tensile.csv, when given, the strip-tensile curves.
+void write_tests(const RunResult& result, CsvWriter& tests, CsvWriter* tensile) {
   const Scenario& sc = result.scenario;
   const cloth::Model& model = result.model;
   const double area = sc.scene.mesh ? cloth::mesh_area(*sc.scene.mesh)
                                     : sc.scene.cloth.size_u * sc.scene.cloth.size_v;
   const double areal_density = model.mass.sum() / area;
   for (const EngineRun& run : result.runs) {
+    if (sc.test.kind == "strip-tensile") {
+      const std::vector<TensilePoint> curve = strip_tensile_curve(result, run);
+      add_test_rows(tests, run.spec.name, tensile_rows(curve, sc.test.fit_strain));
+      for (const TensilePoint& p : curve)
+        tensile->add(run.spec.name).add(p.t).add(p.strain).add(p.force_per_width).end_row();
+      continue;
+    }
     CantileverMetrics m{};
     const bool settled = run.stable && !run.snapshots.empty();
     if (settled)
       m = cantilever_metrics(model.x0, sc.scene.held, run.snapshots.back(), sc.scene.gravity,
                              areal_density, sc.test.edge);
-    for (const TestMetric& row : cantilever_rows(m)) {
-      tests.add(run.spec.name).add(row.metric);
-      if (settled && std::isfinite(row.value))
-        tests.add(row.value);
-      else
-        tests.skip();
-      tests.add(row.unit).end_row();
-    }
+    std::vector<TestMetric> rows = cantilever_rows(m);
+    if (!settled)
+      for (TestMetric& row : rows) row.value = NAN;
+    add_test_rows(tests, run.spec.name, rows);
   }
 }
 
@@ -545,10 +585,12 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   AtomicFile info(dir + "run.json");
   info.write(run_info_json(self_collision_json(result.scenario)));
   // the [test]'s metrics, when the scenario has one
-  std::unique_ptr<CsvWriter> tests;
+  std::unique_ptr<CsvWriter> tests, tensile;
+  if (result.scenario.test.kind == "strip-tensile")
+    tensile = std::make_unique<CsvWriter>(dir + "tensile.csv", output_header("tensile.csv"));
   if (!result.scenario.test.kind.empty()) {
     tests = std::make_unique<CsvWriter>(dir + "tests.csv", output_header("tests.csv"));
-    write_tests(result, *tests);
+    write_tests(result, *tests, tensile.get());
   }
   std::vector<std::unique_ptr<AtomicFile>> trajectory;
   write_trajectories(result, dir, trajectory);
@@ -565,6 +607,7 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   toml.commit();
   info.commit();
   if (tests) tests->commit();
+  if (tensile) tensile->commit();
   for (auto& f : trajectory) f->commit();
 }
 
@@ -576,6 +619,7 @@ void write_run(const RunResult& result, const std::string& out) {
   staged.owns("trajectory");  // the new run's, or none: never an older run's beside new CSVs
   staged.owns("mesh.obj");
   staged.owns("tests.csv");  // the new run's [test] metrics, or none
+  staged.owns("tensile.csv");
   try {
     write_run_files(result, staged.path());
   } catch (const UserError& e) {

@@ -67,9 +67,14 @@ struct MeshSource {
 /// kind "cantilever" (ASTM D1388 option A, fixed overhang): the strip lies along +x and every
 /// particle with rest x <= edge is held on all axes by the scene's own [[constraint]]s (the
 /// loader checks it and adds none); the metrics go to tests.csv.
+/// kind "strip-tensile" (ISO 13934-1 strip): a grid held on all axes at one end (the clamp) and
+/// pulled along direction by its one handle at the other; tests.csv gets the tensile stiffness,
+/// tensile.csv the force-strain curve.
 struct TestSpec {
-  std::string kind;   // "" (no test) or "cantilever"
-  double edge = 0.0;  // m, cantilever: the platform's edge along x
+  std::string kind;             // "" (no test), "cantilever" or "strip-tensile"
+  double edge = 0.0;            // m, cantilever: the platform's edge along x
+  std::string direction = "u";  // strip-tensile: the grid axis pulled along, "u" or "v"
+  double fit_strain = 0.01;     // 1, strip-tensile: the strain range (0, fit_strain] of the slope
 };
 
 /// Everything a run needs; every key of the scenario file has a field here, and so has the
