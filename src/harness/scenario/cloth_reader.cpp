@@ -105,17 +105,20 @@ void read_structural(const Reader& r, const At& sat, bool mesh, cloth::ClothPara
     r.fail(per, u ? "cloth.stiffness.structural_u" : "cloth.stiffness.structural_v",
            "a mesh's structural springs lie along its edges, in no grid direction, so a mesh "
            "stays isotropic: give structural alone");
-  if (per && st.get("structural"))
-    r.fail(per, u ? "cloth.stiffness.structural_u" : "cloth.stiffness.structural_v",
-           "expected either structural (u and v alike) or structural_u and structural_v, got "
-           "both forms");
   if (!per) {
     c.k_structural = r.number(sat, "structural", 0.0, kNonNegative);
     c.k_structural_v = -1.0;
     return;
   }
-  c.k_structural = r.number(sat, "structural_u", 0.0, kNonNegative);
-  c.k_structural_v = r.number(sat, "structural_v", 0.0, kNonNegative);
+  // the values first, so that a value out of range is named as such
+  const double ku = r.number(sat, "structural_u", 0.0, kNonNegative);
+  const double kv = r.number(sat, "structural_v", 0.0, kNonNegative);
+  if (st.get("structural"))
+    r.fail(per, u ? "cloth.stiffness.structural_u" : "cloth.stiffness.structural_v",
+           "expected either structural (u and v alike) or structural_u and structural_v, got "
+           "both forms");
+  c.k_structural = ku;
+  c.k_structural_v = kv;
 }
 
 /// cloth.stiffness, cloth.damping and cloth.air_drag; a mesh has no shear springs.
