@@ -94,6 +94,33 @@ void read_bend_model(const Reader& r, const At& at, cloth::ClothParams& c) {
   c.k_bend = 0.0;
 }
 
+/// cloth.stiffness's structural springs: structural (along u and v alike), or a grid's
+/// structural_u and structural_v (a direction left out has none), never both forms.
+void read_structural(const Reader& r, const At& sat, bool mesh, cloth::ClothParams& c) {
+  const toml::table& st = sat.table;
+  const toml::node* u = st.get("structural_u");
+  const toml::node* v = st.get("structural_v");
+  const toml::node* per = u ? u : v;
+  if (per && mesh)
+    r.fail(per, u ? "cloth.stiffness.structural_u" : "cloth.stiffness.structural_v",
+           "a mesh's structural springs lie along its edges, in no grid direction, so a mesh "
+           "stays isotropic: give structural alone");
+  if (!per) {
+    c.k_structural = r.number(sat, "structural", 0.0, kNonNegative);
+    c.k_structural_v = -1.0;
+    return;
+  }
+  // the values first, so that a value out of range is named as such
+  const double ku = r.number(sat, "structural_u", 0.0, kNonNegative);
+  const double kv = r.number(sat, "structural_v", 0.0, kNonNegative);
+  if (st.get("structural"))
+    r.fail(per, u ? "cloth.stiffness.structural_u" : "cloth.stiffness.structural_v",
+           "expected either structural (u and v alike) or structural_u and structural_v, got "
+           "both forms");
+  c.k_structural = ku;
+  c.k_structural_v = kv;
+}
+
 /// cloth.stiffness, cloth.damping and cloth.air_drag; a mesh has no shear springs.
 void read_material(const Reader& r, const At& at, bool mesh, cloth::ClothParams& c) {
   // a stiffness table names the spring kinds there are; an omitted kind has no springs
@@ -104,7 +131,7 @@ void read_material(const Reader& r, const At& at, bool mesh, cloth::ClothParams&
       r.fail(st->get("shear"), "cloth.stiffness.shear",
              "a mesh has no shear springs: one structural spring per edge and one bend spring "
              "per interior edge; leave shear out");
-    c.k_structural = r.number(sat, "structural", 0.0, kNonNegative);
+    read_structural(r, sat, mesh, c);
     c.k_shear = r.number(sat, "shear", 0.0, kNonNegative);
     c.k_bend = r.number(sat, "bend", 0.0, kNonNegative);
   } else if (mesh) {

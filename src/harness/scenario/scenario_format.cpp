@@ -40,9 +40,10 @@ const Keys kClothKeys = {"particles",       "size",       "center",        "plan
 const Keys kBendModels = {"springs", "hinge"};
 const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size", "length",
                             "edge_length", "seed",   "center",       "plane"};
-const Keys kTestKeys = {"kind", "edge"};
+const Keys kTestKeys = {"kind", "edge", "direction", "fit_strain"};
+const Keys kTensileDirections = {"u", "v"};
 const Keys kTestKinds = {"cantilever", "drape", "strip-tensile", "bias-extension"};
-const Keys kStiffnessKeys = {"structural", "shear", "bend"};
+const Keys kStiffnessKeys = {"structural", "shear", "bend", "structural_u", "structural_v"};
 const Keys kConstraintKeys = {"select", "hold", "center", "radius", "list", "name", "min", "max"};
 const Keys kSphereKeys = {"center",   "radius", "restitution", "friction",
                           "velocity", "margin", "path"};
