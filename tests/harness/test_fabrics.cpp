@@ -18,6 +18,7 @@
 #include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario.hpp"
 #include "harness/scenario/scenario_loader.hpp"
+#include "harness/scenario/scenario_writer.hpp"
 #include "tolerances.hpp"
 
 using namespace clothbench;
@@ -345,4 +346,22 @@ TEST_CASE("fabrics: an ARCSim fabric's cantilever gives its bending length (hing
   CAPTURE(name, expected, found, found / expected, drop, elastica, drop / elastica, floor);
   REQUIRE(found >= floor);
   REQUIRE(found <= expected * (1 + tol::kCantileverTip));
+}
+
+TEST_CASE("fabrics: the preset scenes load and write back the same cloth", "[fabrics]") {
+  for (const char* name : {"denim_sphere_drape", "cusick_preset"}) {
+    CAPTURE(name);
+    const Scenario s =
+        load_scenario(std::string(CLOTHBENCH_SOURCE_DIR) + "/scenarios/fabric/" + name + ".toml");
+    REQUIRE(s.warnings.empty());
+    CHECK_NOTHROW(cloth::build_model(s.scene));
+    // the written scenario holds the preset's numbers, not its name
+    const Scenario back = parse_scenario(scenario_to_toml(s), "back.toml");
+    const cloth::ClothParams &a = s.scene.cloth, &b = back.scene.cloth;
+    REQUIRE(b.areal_density == a.areal_density);
+    REQUIRE(b.k_structural == a.k_structural);
+    REQUIRE(b.k_shear == a.k_shear);
+    REQUIRE(b.k_bend == a.k_bend);
+    REQUIRE(b.damping == a.damping);
+  }
 }
