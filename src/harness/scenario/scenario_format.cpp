@@ -32,11 +32,11 @@ const Keys kTopKeys = {"name",
                        "cylinder",
                        "handle",
                        "test"};
-const Keys kClothKeys = {"particles",       "size",       "center",        "plane",
-                         "particle_mass",   "total_mass", "areal_density", "stiffness",
-                         "damping",         "air_drag",   "mesh",          "generate",
-                         "self_collision",  "thickness",  "self_friction", "bend_model",
-                         "bending_rigidity"};
+const Keys kClothKeys = {"particles",        "size",       "center",        "plane",
+                         "particle_mass",    "total_mass", "areal_density", "stiffness",
+                         "damping",          "air_drag",   "mesh",          "generate",
+                         "self_collision",   "thickness",  "self_friction", "bend_model",
+                         "bending_rigidity", "fabric"};
 const Keys kBendModels = {"springs", "hinge"};
 const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size", "length",
                             "edge_length", "seed",   "center",       "plane"};

@@ -224,6 +224,10 @@ void cloth_keys(std::vector<ScenarioKey>& out) {
   r.other("bending_rigidity", "number", "N m", "none", "> 0; only with bend_model = \"hinge\"",
           "the hinge model's bending rigidity B per unit width: a sheet bent to curvature k stores "
           "B k^2 / 2 per unit area");
+  r.other("fabric", "string", "", "none", "a name in reference/fabrics/fabrics.toml",
+          "a fabric preset: sets areal_density, the stiffness table, bending_rigidity (hinge) "
+          "and damping from published measurements at the cloth's resolution "
+          "(docs/fabrics.md); keys given here override the preset's, one by one");
   r.number("damping", "N s/m", c.damping, kNonNegative, "damper along every spring");
   r.number("air_drag", "N s/m", c.air_drag, kNonNegative,
            "viscous drag of every particle against the wind");
