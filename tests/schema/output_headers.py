@@ -34,6 +34,10 @@ def make_outputs(clothbench, source, work):
     cantilever = os.path.join(source, "scenarios", "fabric", "cantilever.toml")
     run(clothbench, "run", cantilever, "--set", "duration=0.05", "-o", f"{work}/tests",
         "-e", "custom-rk4")
+    # a strip-tensile [test] writes tensile.csv
+    tensile = os.path.join(source, "scenarios", "fabric", "strip-tensile-warp.toml")
+    run(clothbench, "run", tensile, "--set", "duration=0.05", "-o", f"{work}/tensile",
+        "-e", "custom-symplectic-euler")
     run(clothbench, "stability", chain, "--set", "duration=0.05", "-o", f"{work}/stability",
         "-e", "custom-rk4", "-i", "rk4", "--rel-tol", "0.2")
     varied = ["cloth.damping"]
