@@ -161,7 +161,7 @@ def distance_norm(pairs, columns):
     return plt.Normalize(0.0, hi if hi > 0 else 1.0)
 
 
-def _cell_axes(fig, shape, k, box):
+def cell_axes(fig, shape, k, box):
     """The k-th (from 1) 3D axes of a rows by columns figure, seen as the player sees the
     scene, over the view box (lo, hi)."""
     lo, hi = box
@@ -189,7 +189,7 @@ def _draw_mesh(ax, p, faces, engine, colour, d, state):
         surf.set_facecolor(cmap(norm(d.reshape(-1)[faces].mean(axis=1))))
 
 
-def _draw_cloth(ax, f, engine, t, box, colour):
+def draw_cloth(ax, f, engine, t, box, colour):
     """Engine's cloth at snapshot time t (s) with the colliders; returns " — blown up" when it
     had blown up by then, else "".
 
@@ -239,7 +239,7 @@ def _draw_row(fig, r, pair, columns, layout, colour):
     previous = None
     axes = []
     for c, column in enumerate(columns):
-        ax = _cell_axes(fig, (nrows, ncols), r * ncols + c + 1, box)
+        ax = cell_axes(fig, (nrows, ncols), r * ncols + c + 1, box)
         axes.append(ax)
         name = engine if nfolders == 1 else f"{engine} ({f.label})"
         t = cell_time(f, engine, column, previous)
@@ -251,7 +251,7 @@ def _draw_row(fig, r, pair, columns, layout, colour):
                       fontsize=style.FONT - 1)
             continue
         previous = t
-        state = _draw_cloth(ax, f, engine, t, box, colour)
+        state = draw_cloth(ax, f, engine, t, box, colour)
         ax.set_title(f"{name}\nt = {style.fmt(t)} s{state}", fontsize=style.FONT - 1)
     return axes
 

@@ -27,12 +27,16 @@ Command add_map_command(CLI::App& app);
 Command add_merge_command(CLI::App& app);
 /// `clothbench accuracy`: error against a fine reference and cost over a time-step sweep.
 Command add_accuracy_command(CLI::App& app);
+/// `clothbench fit`: each engine's parameters fitted so that its metrics hit their targets.
+Command add_fit_command(CLI::App& app);
 /// `clothbench check`: the regression gates against the recorded baselines.
 Command add_check_command(CLI::App& app);
 /// `clothbench report`: analysis/report.py on an output folder.
 Command add_report_command(CLI::App& app);
 /// `clothbench export`: analysis/export.py (OBJ and VTK sequences of a run's trajectories).
 Command add_export_command(CLI::App& app);
+/// `clothbench gallery`: analysis/gallery.py (one page of several runs' final shapes).
+Command add_gallery_command(CLI::App& app);
 /// Runs analysis/<name> with Debian's python3 (CLOTHBENCH_PYTHON overrides) and args; returns
 /// its exit status (128 + the signal that ended it); a python that cannot start is exit 2.
 int run_analysis_script(const std::string& name, const std::vector<std::string>& args);

@@ -58,11 +58,11 @@ int main(int argc, char** argv) {
         "with energy, drape-shape and stability differences logged to CSV."};
     app.require_subcommand(1);
     app.set_version_flag("--version", std::string("clothbench ") + kVersion);
-    const std::vector<Command> commands = {add_run_command(app),      add_stability_command(app),
-                                           add_accuracy_command(app), add_check_command(app),
-                                           add_map_command(app),      add_merge_command(app),
-                                           add_report_command(app),   add_export_command(app),
-                                           add_list_command(app),     add_schema_command(app)};
+    const std::vector<Command> commands = {
+        add_run_command(app),    add_stability_command(app), add_accuracy_command(app),
+        add_check_command(app),  add_map_command(app),       add_merge_command(app),
+        add_report_command(app), add_export_command(app),    add_gallery_command(app),
+        add_list_command(app),   add_schema_command(app),    add_fit_command(app)};
     require_known_command(app, argc, argv);
     try {
       app.parse(argc, argv);

@@ -526,3 +526,34 @@ TEST_CASE("a cantilever test writes tests.csv, and a run without one leaves none
   write_run(run_small(), dir.string());
   CHECK_FALSE(fs::exists(dir / "tests.csv"));
 }
+
+TEST_CASE("a drape test's coefficient in tests.csv is summary.csv's, and its folds are counted",
+          "[runner][drape]") {
+  const clothbench::test::TempDir scratch("runner-drape-csv");
+  const fs::path& dir = scratch.path;
+  RunOptions o;
+  o.progress = false;
+  const Scenario sc =
+      load_scenario(std::string(CLOTHBENCH_SOURCE_DIR) + "/scenarios/cusick_drape.toml",
+                    {"duration=1.0"}, {"custom-implicit-euler"});
+  write_run(run_scenario(sc, o), dir.string());
+  // per engine (the reference, custom-rk4, runs too)
+  const Csv tests = read_csv(dir / "tests.csv");
+  std::map<std::string, std::map<std::string, double>> value;
+  for (const auto& row : tests.rows) value[row[0]][row[1]] = std::stod(row[2]);
+  const Csv summary = read_csv(dir / "summary.csv");
+  const size_t dc =
+      size_t(std::find(summary.header.begin(), summary.header.end(), "drape_coefficient") -
+             summary.header.begin());
+  REQUIRE(dc < summary.header.size());
+  REQUIRE(summary.rows.size() == 2);
+  for (const auto& row : summary.rows) {
+    INFO(row[0]);
+    CHECK(value[row[0]]["drape_coefficient"] == Approx(std::stod(row[dc])).epsilon(1e-12));
+    // a hanging specimen folds (a flat one would have none); its outline lies between the
+    // support's 9 cm and the specimen's 15 cm
+    CHECK(value[row[0]]["folds"] >= 3);
+    CHECK(value[row[0]]["min_radius"] > 0.09);
+    CHECK(value[row[0]]["max_radius"] < 0.15);
+  }
+}

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "cloth/model/types.hpp"
+#include "harness/fabric/test_metric.hpp"
 
 namespace clothbench {
 
@@ -40,13 +41,6 @@ CantileverMetrics cantilever_metrics(const cloth::Matrix3X& x0,
                                      const std::vector<std::uint8_t>& held,
                                      const cloth::Matrix3X& x, const cloth::Vector3& gravity,
                                      double areal_density, double edge);
-
-/// One row of tests.csv (without the engine).
-struct TestMetric {
-  std::string metric;
-  double value;  // NaN when undefined (written empty)
-  std::string unit;
-};
 
 /// The rows of tests.csv for m, in the order written: chord_angle (deg), tip_deflection,
 /// overhang, bending_length, bending_length_peirce (m), flexural_rigidity (N m).

@@ -135,11 +135,27 @@ std::vector<OutputFile> comparison_files() {
            {kEngine,
             {"metric", "text",
              "cantilever: chord_angle, tip_deflection, overhang, bending_length (the elastica's), "
-             "bending_length_peirce, flexural_rigidity"},
+             "bending_length_peirce, flexural_rigidity; drape: drape_coefficient, folds (local "
+             "maxima of the outline's radius around the support's axis, smoothed over 10 "
+             "degrees), min_radius and max_radius of that smoothed outline; strip-tensile: "
+             "tensile_stiffness, fit_strain, max_strain, max_force_per_width"},
             {"value", "as unit",
-             "the metric's value; empty when undefined (the run blew up, or "
-             "a chord angle the elastica cannot invert)"},
-            {"unit", "text", "the value's unit: deg, m or N m"}}},
+             "the metric's value; empty when undefined (the run blew up, "
+             "a chord angle the elastica cannot invert, fewer than 3 frames in a tensile fit, "
+             "or an engine whose forces are not the scene's springs)"},
+            {"unit", "text", "the value's unit: deg, m, N m, N/m or 1"}}},
+          {"tensile.csv",
+           "clothbench run, in the run folder, when the scenario's [test] is a strip-tensile",
+           "one frame of one custom engine's force-strain curve (the other engines' forces are "
+           "not the scene's springs: they get no rows)",
+           {kEngine,
+            kT,
+            {"strain", "1",
+             "the handle's prescribed displacement along the test's direction "
+             "over the gauge length (clamp to handle, at rest)"},
+            {"force_per_width", "N/m",
+             "the springs' elastic tension across the strip's central section at the engine's "
+             "positions, along the test's direction, over the strip's rest width"}}},
           {"divergence.csv",
            "clothbench run, in the run folder",
            "one engine other than the reference at one frame both logged",
@@ -312,10 +328,37 @@ std::string markdown_cell(std::string_view text) {
   return out;
 }
 
+// clothbench fit: the parameters that make each engine's metrics hit their targets
+std::vector<OutputFile> fit_files() {
+  return {{"fit.csv",
+           "clothbench fit, in its output folder",
+           "one target metric of one engine: the parameter fitted for it and what it reached",
+           {kEngine,
+            {"parameter", "text",
+             "the scenario key fitted, as --set takes it (engine.KEY: the engine's own key; "
+             "a+b: both set to the value)"},
+            {"value", "as the key", "the fitted value: the best run's"},
+            {"metric", "text", "the target metric (a [test] metric or drape_coefficient)"},
+            {"target", "as the metric", "the value asked for"},
+            {"achieved", "as the metric",
+             "the metric at the fitted values of every parameter of the engine; empty when no "
+             "run gave it"},
+            {"relative_error", "1", "(achieved - target) / |target|"},
+            {"runs", "count", "runs this fit made (its bracket and secant steps, and the check)"},
+            {"sensitivity", "metric unit per parameter unit",
+             "d metric / d parameter between the two runs nearest the fitted value; empty with "
+             "fewer than two runs that gave the metric"},
+            {"status", "text",
+             "converged (within tolerance), unreachable (the target lies beyond what the "
+             "parameter's range or the engine's stability gives: value is the best reached), "
+             "budget (--max-runs spent), failed (no run gave the metric), no engine (the "
+             "metric's scenario has no such engine)"}}}};
+}
+
 const std::vector<OutputFile>& output_files() {
   static const std::vector<OutputFile> files = [] {
     std::vector<OutputFile> all = run_files();
-    for (auto group : {comparison_files(), sweep_files(), baseline_files()})
+    for (auto group : {comparison_files(), sweep_files(), fit_files(), baseline_files()})
       all.insert(all.end(), group.begin(), group.end());
     return all;
   }();

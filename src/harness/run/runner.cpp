@@ -14,11 +14,13 @@
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/engines/engine_factory.hpp"
 #include "harness/fabric/cantilever_metrics.hpp"
+#include "harness/fabric/tensile_metrics.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/staged_folder.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/build_info.hpp"
+#include "harness/run/engine_metric.hpp"
 #include "harness/run/ensemble_member.hpp"
 #include "harness/run/mesh_file.hpp"
 #include "harness/run/trajectory_files.hpp"
@@ -154,7 +156,7 @@ std::unique_ptr<cloth::Simulator> start_engine(const Scenario& sc, const EngineS
                                                const cloth::Model& model, bool keep_positions,
                                                EngineRun& run) {
   try {
-    return make_engine(spec, sc.scene);
+    return make_engine(spec, engine_scene(sc, spec));
   } catch (const cloth::EngineFailure& e) {
     const cloth::Matrix3X v0 = cloth::Matrix3X::Zero(3, model.particle_count());
     const double e0 = cloth::compute_energies(model, model.x0, v0).total();
@@ -174,8 +176,11 @@ std::unique_ptr<cloth::Simulator> start_engine(const Scenario& sc, const EngineS
 
 }  // namespace
 
-EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
-                     Progress* progress, bool keep_positions) {
+namespace {
+
+/// run_engine on model, the engine's own scene's.
+EngineRun run_engine_on(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
+                        Progress* progress, bool keep_positions) {
   EngineRun run;
   run.spec = spec;
   auto sim = start_engine(sc, spec, model, keep_positions, run);
@@ -253,6 +258,15 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   return run;
 }
 
+}  // namespace
+
+EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
+                     Progress* progress, bool keep_positions) {
+  // an engine with overrides is measured in its own scene's model (same particles, own forces)
+  if (!spec.scene) return run_engine_on(sc, spec, model, progress, keep_positions);
+  return run_engine_on(sc, spec, cloth::build_model(*spec.scene), progress, keep_positions);
+}
+
 RunResult run_scenario(const Scenario& unperturbed, const RunOptions& options) {
   Scenario sc = unperturbed;
   sc.scene = perturbed_scene(sc.scene, options.member, options.member_seed);
@@ -280,7 +294,14 @@ RunResult run_scenario(const Scenario& unperturbed, const RunOptions& options) {
   }
   // a scene an engine refuses fails before any work (the loader refused it already, unless
   // the caller changed the scene since)
-  for (int i : chosen) require_engine_can_model(sc.engines[static_cast<size_t>(i)], sc.scene, "");
+  // an engine's own scene is perturbed as the scenario's is
+  for (int i : chosen) {
+    EngineSpec& e = sc.engines[static_cast<size_t>(i)];
+    if (e.scene)
+      e.scene = std::make_shared<const cloth::Scene>(
+          perturbed_scene(*e.scene, options.member, options.member_seed));
+    require_engine_can_model(e, engine_scene(sc, e), "");
+  }
 
   double total_steps = 0;
   for (int i : chosen) total_steps += double(planned_steps(sc, sc.engines[static_cast<size_t>(i)]));
@@ -369,13 +390,44 @@ std::string facts_json() {
   return o.str();
 }
 
-/// Each engine's self-collision ("on", "off" or "not available"), as a JSON member.
+/// s as a JSON string, quoted and escaped.
+std::string json_string(const std::string& s) {
+  std::string out = "\"";
+  for (const char c : s) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (static_cast<unsigned char>(c) < 0x20) {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\u%04x", c);
+      out += hex;
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+/// Each engine's self-collision ("on", "off" or "not available") and, when any engine has
+/// some, each engine's overrides (key path: value as TOML text), as JSON members.
 std::string self_collision_json(const Scenario& s) {
   std::ostringstream o;
   o << "  \"self_collision\": {";
   for (size_t k = 0; k < s.engines.size(); ++k)
     o << (k ? ", " : "") << "\"" << s.engines[k].name << "\": \""
-      << self_collision_name(self_collision_of(s.engines[k], s.scene.cloth)) << "\"";
+      << self_collision_name(self_collision_of(s.engines[k], engine_scene(s, s.engines[k]).cloth))
+      << "\"";
+  o << "},\n";
+  // each engine's own scene keys, when any engine has some
+  if (std::none_of(s.engines.begin(), s.engines.end(),
+                   [](const EngineSpec& e) { return !e.overrides.empty(); }))
+    return o.str();
+  o << "  \"overrides\": {";
+  for (size_t k = 0; k < s.engines.size(); ++k) {
+    o << (k ? ", " : "") << "\"" << s.engines[k].name << "\": {";
+    for (size_t j = 0; j < s.engines[k].overrides.size(); ++j)
+      o << (j ? ", " : "") << json_string(s.engines[k].overrides[j].first) << ": "
+        << json_string(s.engines[k].overrides[j].second);
+    o << "}";
+  }
   o << "},\n";
   return o.str();
 }
@@ -476,28 +528,22 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
   }
 }
 
-/// tests.csv: the [test]'s metrics of every engine's final state (empty values for a run that
-/// did not end stable: its final shape is not a settled strip).
-void write_tests(const RunResult& result, CsvWriter& tests) {
-  const Scenario& sc = result.scenario;
-  const cloth::Model& model = result.model;
-  const double area = sc.scene.mesh ? cloth::mesh_area(*sc.scene.mesh)
-                                    : sc.scene.cloth.size_u * sc.scene.cloth.size_v;
-  const double areal_density = model.mass.sum() / area;
+/// tests.csv: the [test]'s metrics of every engine (empty values where undefined, e.g. for a
+/// run that did not end stable: its final shape is not a settled one); tensile.csv, when given,
+/// the strip-tensile curves.
+void write_tests(const RunResult& result, CsvWriter& tests, CsvWriter* tensile) {
   for (const EngineRun& run : result.runs) {
-    CantileverMetrics m{};
-    const bool settled = run.stable && !run.snapshots.empty();
-    if (settled)
-      m = cantilever_metrics(model.x0, sc.scene.held, run.snapshots.back(), sc.scene.gravity,
-                             areal_density, sc.test.edge);
-    for (const TestMetric& row : cantilever_rows(m)) {
+    for (const TestMetric& row : test_metrics(result, run)) {
       tests.add(run.spec.name).add(row.metric);
-      if (settled && std::isfinite(row.value))
+      if (std::isfinite(row.value))
         tests.add(row.value);
       else
         tests.skip();
       tests.add(row.unit).end_row();
     }
+    if (!tensile) continue;
+    for (const TensilePoint& p : strip_tensile_curve(result, run))
+      tensile->add(run.spec.name).add(p.t).add(p.strain).add(p.force_per_width).end_row();
   }
 }
 
@@ -545,10 +591,12 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   AtomicFile info(dir + "run.json");
   info.write(run_info_json(self_collision_json(result.scenario)));
   // the [test]'s metrics, when the scenario has one
-  std::unique_ptr<CsvWriter> tests;
+  std::unique_ptr<CsvWriter> tests, tensile;
+  if (result.scenario.test.kind == "strip-tensile")
+    tensile = std::make_unique<CsvWriter>(dir + "tensile.csv", output_header("tensile.csv"));
   if (!result.scenario.test.kind.empty()) {
     tests = std::make_unique<CsvWriter>(dir + "tests.csv", output_header("tests.csv"));
-    write_tests(result, *tests);
+    write_tests(result, *tests, tensile.get());
   }
   std::vector<std::unique_ptr<AtomicFile>> trajectory;
   write_trajectories(result, dir, trajectory);
@@ -565,6 +613,7 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   toml.commit();
   info.commit();
   if (tests) tests->commit();
+  if (tensile) tensile->commit();
   for (auto& f : trajectory) f->commit();
 }
 
@@ -576,6 +625,7 @@ void write_run(const RunResult& result, const std::string& out) {
   staged.owns("trajectory");  // the new run's, or none: never an older run's beside new CSVs
   staged.owns("mesh.obj");
   staged.owns("tests.csv");  // the new run's [test] metrics, or none
+  staged.owns("tensile.csv");
   try {
     write_run_files(result, staged.path());
   } catch (const UserError& e) {

@@ -67,7 +67,9 @@ struct Interrupted : std::runtime_error {
 /// blow-up), or
 /// at the first energy check (every frame, and at least every kEnergyCheckInterval of
 /// simulated time) where the energy error exceeds blowup_energy times the EnergyScale, or
-/// once the run has taken sc.max_run_seconds of wall clock (when > 0): a timeout.
+/// once the run has taken sc.max_run_seconds of wall clock (when > 0): a timeout. model is the
+/// scene's; an engine with its own scene (EngineSpec::scene, from its overrides) runs and is
+/// measured in that scene's model instead.
 EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Model& model,
                      Progress* progress, bool keep_positions);
 

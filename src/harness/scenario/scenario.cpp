@@ -16,6 +16,10 @@ int Scenario::reference_index() const {
                               name + "\"");
 }
 
+const cloth::Scene& engine_scene(const Scenario& s, const EngineSpec& e) {
+  return e.scene ? *e.scene : s.scene;
+}
+
 namespace {
 
 // the grid's own selections: corners, edges, a disk in the cloth plane, (i, j) indices

@@ -3,8 +3,10 @@
 /// A scenario: one physical scene, how long and how often to log it, and the engines to run.
 /// Filled by scenario_loader from a TOML file; read by the runner and the engine factory.
 
+#include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "cloth/model/mesh_generator.hpp"
@@ -50,6 +52,11 @@ struct EngineSpec {
   reference::MujocoOptions mujoco;      // kind = mujoco
   reference::ExternalOptions external;  // kind = external
   std::optional<bool> self_collision;   // the engine's own setting; unset: the cloth's
+  std::vector<std::pair<std::string, std::string>> overrides;  // its own scene keys: (key path
+                                                               // as --set takes it, value as
+                                                               // TOML text), in file order
+  std::shared_ptr<const cloth::Scene> scene;  // the scene its overrides give (same rest shape and
+                                              // held particles); null: the scenario's
 };
 
 /// Where a mesh cloth comes from: an OBJ file (cloth.mesh) or a generated shape
@@ -66,10 +73,15 @@ struct MeshSource {
 /// A textile standard test the harness measures on every engine's final state ([test]).
 /// kind "cantilever" (ASTM D1388 option A, fixed overhang): the strip lies along +x and every
 /// particle with rest x <= edge is held on all axes by the scene's own [[constraint]]s (the
-/// loader checks it and adds none); the metrics go to tests.csv.
+/// loader checks it and adds none). kind "drape" (the Cusick test, BS 5058): a specimen hung
+/// from a held support ([[constraint]] within or disk). kind "strip-tensile" (ISO 13934-1
+/// strip): a grid held on all axes at one end (the clamp) and pulled along direction by its one
+/// handle at the other; tensile.csv gets the force-strain curve. The metrics go to tests.csv.
 struct TestSpec {
-  std::string kind;   // "" (no test) or "cantilever"
-  double edge = 0.0;  // m, cantilever: the platform's edge along x
+  std::string kind;             // "" (no test), "cantilever", "drape" or "strip-tensile"
+  double edge = 0.0;            // m, cantilever: the platform's edge along x
+  std::string direction = "u";  // strip-tensile: the grid axis pulled along, "u" or "v"
+  double fit_strain = 0.01;     // 1, strip-tensile: the strain range (0, fit_strain] of the slope
 };
 
 /// Everything a run needs; every key of the scenario file has a field here, and so has the
@@ -101,6 +113,9 @@ struct Scenario {
   /// The reference engine's index in engines.
   int reference_index() const;
 };
+
+/// The scene engine e runs: its own (EngineSpec::scene) when its overrides give one, else s.scene.
+const cloth::Scene& engine_scene(const Scenario& s, const EngineSpec& e);
 
 /// Held-axis mask (#P entries) of the constraints on the cloth of scene (its grid or mesh;
 /// within and box test rest positions).

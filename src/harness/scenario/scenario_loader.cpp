@@ -17,6 +17,7 @@
 #include "cloth/model/model.hpp"
 #include "harness/scenario/cloth_reader.hpp"
 #include "harness/scenario/embedded_seed_scenario.hpp"
+#include "harness/scenario/engine_overrides.hpp"
 #include "harness/scenario/engine_refusal.hpp"
 #include "harness/scenario/scenario_overrides.hpp"
 #include "harness/scenario/selection_reader.hpp"
@@ -547,7 +548,7 @@ void keep_engines(const Reader& r, const toml::table& root,
     if (!only.empty() && e.name != s.reference &&
         std::find(only.begin(), only.end(), e.name) == only.end())
       continue;
-    refuse_unmodelled(r, root, *engines[k], e, s.scene);
+    refuse_unmodelled(r, root, *engines[k], e, engine_scene(s, e));
     kept.push_back(std::move(e));
   }
   s.engines = std::move(kept);
@@ -616,6 +617,9 @@ Scenario read_scenario(const toml::table& root, const std::string& source,
   const auto engines = r.tables({root, ""}, "engine");
   read_engines(r, root, engines, s);
   read_reference(r, root, s);
+  // an engine's own scene: this same reading, of the root its overrides give
+  read_engine_overrides(r, root, engines, s,
+                        [&](const toml::table& own) { return read_scenario(own, source, {}); });
   keep_engines(r, root, engines, only, s);
   refuse_thin_rest_shape(r, root, s);
   note_self_collision_unavailable(s);

@@ -152,7 +152,11 @@ void write_cloth(std::ostream& o, const Scenario& s) {
     o << "total_mass = " << d(c.total_mass) << "  # kg\n";
   else
     o << "particle_mass = " << d(c.particle_mass) << "  # kg\n";
-  o << "stiffness = { structural = " << d(c.k_structural);
+  if (c.anisotropic())
+    o << "stiffness = { structural_u = " << d(c.k_structural)
+      << ", structural_v = " << d(c.structural_v());
+  else
+    o << "stiffness = { structural = " << d(c.k_structural);
   if (!s.mesh.any()) o << ", shear = " << d(c.k_shear);
   o << ", bend = " << d(c.k_bend) << " }  # N/m\n";
   if (c.bend_model == cloth::BendModel::hinge)
@@ -206,9 +210,11 @@ std::string scenario_to_toml(const Scenario& s) {
     o << "hold = " << toml_string(hold_letters(k.hold)) << "\n";
   }
   write_colliders(o, s);
-  if (!s.test.kind.empty())
-    o << "\n[test]\nkind = " << toml_string(s.test.kind) << "\nedge = " << d(s.test.edge)
-      << "  # m\n";
+  if (!s.test.kind.empty()) o << "\n[test]\nkind = " << toml_string(s.test.kind) << "\n";
+  if (s.test.kind == "cantilever") o << "edge = " << d(s.test.edge) << "  # m\n";
+  if (s.test.kind == "strip-tensile")
+    o << "direction = " << toml_string(s.test.direction)
+      << "\nfit_strain = " << d(s.test.fit_strain) << "\n";
 
   for (const EngineSpec& e : s.engines) {
     o << "\n[[engine]]\n"
@@ -217,6 +223,13 @@ std::string scenario_to_toml(const Scenario& s) {
       << "dt = " << d(e.dt) << "  # s\n";
     if (e.self_collision)
       o << "self_collision = " << (*e.self_collision ? "true" : "false") << "\n";
+    // the engine's own scene keys, as the file gave them
+    if (!e.overrides.empty()) {
+      o << "overrides = { ";
+      for (size_t k = 0; k < e.overrides.size(); ++k)
+        o << (k ? ", " : "") << toml_string(e.overrides[k].first) << " = " << e.overrides[k].second;
+      o << " }\n";
+    }
     if (e.kind == EngineKind::custom) {
       write_custom_options(o, e.solver);
     } else if (e.kind == EngineKind::bullet_deformable) {

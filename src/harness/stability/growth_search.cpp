@@ -24,7 +24,7 @@ constexpr int kPhysicalSubsteps = 8;
 std::unique_ptr<cloth::Simulator> engine_at(const Scenario& sc, const EngineSpec& e, double dt) {
   EngineSpec spec = e;
   spec.dt = dt;
-  return make_engine(spec, sc.scene);
+  return make_engine(spec, engine_scene(sc, spec));
 }
 
 /// The growth at one state: the one-step map, then (when it grows faster than the tolerance)

@@ -1,0 +1,143 @@
+/// @file cmd_fit.cpp
+/// `clothbench fit`: each engine's parameters fitted so that its metrics hit their targets.
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "exit_codes.hpp"
+#include "harness/io/output_lock.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/sweeps/fit_sweep.hpp"
+#include "support/option_checks.hpp"
+#include "support/scenario_input.hpp"
+
+namespace clothbench::cli {
+namespace {
+
+struct FitArgs {
+  std::vector<std::string> target_texts;  // METRIC=VALUE
+  std::vector<std::string> range_texts;   // KEY=LO:HI
+  std::string out_dir;
+  bool quiet = false;
+  FitOptions options;
+};
+
+/// A finite number from text, or a UserError naming the option and the text.
+double number(const std::string& text, const std::string& option, const std::string& whole) {
+  std::istringstream in(text);
+  double v = NAN;
+  if (text.empty() || !(in >> v) || !(in >> std::ws).eof() || !std::isfinite(v))
+    throw UserError(option + " " + whole + ": expected a finite number, got \"" + text + "\"");
+  return v;
+}
+
+/// METRIC=VALUE.
+FitTarget parse_target(const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw UserError("--target " + text + ": expected METRIC=VALUE, e.g. bending_length=0.03");
+  return {text.substr(0, eq), number(text.substr(eq + 1), "--target", text)};
+}
+
+/// KEY=LO:HI with 0 < LO < HI.
+FitRange parse_range(const std::string& text) {
+  const size_t eq = text.find('='), colon = text.find(':', eq == std::string::npos ? 0 : eq);
+  if (eq == std::string::npos || eq == 0 || colon == std::string::npos)
+    throw UserError("--range " + text +
+                    ": expected KEY=LO:HI, e.g. cloth.stiffness.bend=100:100000");
+  FitRange r{text.substr(0, eq), number(text.substr(eq + 1, colon - eq - 1), "--range", text),
+             number(text.substr(colon + 1), "--range", text)};
+  if (!(r.lo > 0.0 && r.lo < r.hi))
+    throw UserError("--range " + text + ": expected 0 < LO < HI (parameters are positive)");
+  return r;
+}
+
+/// v with 4 significant digits, for the terminal (fit.csv has every digit).
+std::string short_number(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+/// One line per row: what each engine reached, and why a fit stopped short.
+void print_summary(const FitOutcome& outcome) {
+  for (const FitRow& r : outcome.rows) {
+    std::cout << r.engine << ": " << r.metric << " ";
+    if (r.status == "no engine") {
+      std::cout << "not fitted: " << r.note << "\n";
+      continue;
+    }
+    std::cout << (std::isfinite(r.achieved) ? short_number(r.achieved) : "no value") << " (target "
+              << short_number(r.target) << ") at " << r.parameter << " = " << short_number(r.value)
+              << ", " << r.runs << " runs, " << r.status;
+    if (r.status != "converged") std::cout << ": " << r.note << "; the best reached is given";
+    std::cout << "\n";
+  }
+  std::cout << std::flush;
+}
+
+int execute_fit(FitArgs a) {
+  FitOptions& o = a.options;
+  o.progress = !a.quiet;
+  for (const std::string& t : a.target_texts) o.targets.push_back(parse_target(t));
+  for (const std::string& r : a.range_texts) o.ranges.push_back(parse_range(r));
+  if (o.ranges.size() > o.targets.size())
+    throw UserError("--range: " + std::to_string(o.ranges.size()) + " ranges for " +
+                    std::to_string(o.targets.size()) +
+                    " targets; the k-th --range names the k-th --target's parameter");
+  // an input is never overwritten by its fitted copy
+  for (const std::string& s : o.scenarios)
+    refuse_overwriting_input(s, a.out_dir + "/fitted",
+                             std::filesystem::path(s).filename().string());
+  const OutputLock lock(a.out_dir);
+  const FitOutcome outcome = run_fit(o);
+  write_fit(o, outcome, a.out_dir);
+  print_summary(outcome);
+  return kExitOk;
+}
+
+}  // namespace
+
+Command add_fit_command(CLI::App& app) {
+  auto a = std::make_shared<FitArgs>();
+  FitOptions& o = a->options;
+  CLI::App* fit = app.add_subcommand(
+      "fit",
+      "Fits each engine's parameters so that its metrics hit their targets: each target's\n"
+      "metric comes from the scenario whose [test] gives it, one parameter per target\n"
+      "(bracketing and secant steps in log parameter). Writes fit.csv and fitted/<scenario>,\n"
+      "whose engines carry their fitted values (overrides = { ... }) for clothbench run.");
+  fit->add_option("scenarios", o.scenarios, "scenario files (TOML)")->required();
+  fit->add_option("--target,-t", a->target_texts,
+                  "METRIC=VALUE, e.g. bending_length=0.03 (repeatable; m for lengths)")
+      ->required()
+      ->allow_extra_args(false);
+  fit->add_option("--range,-r", a->range_texts,
+                  "KEY=LO:HI: the k-th names the k-th target's parameter (a --set key; engine.KEY\n"
+                  "for the engine's own) and bounds it; default: the metric's usual parameter\n"
+                  "within 1e-4 to 1e4 times its value")
+      ->allow_extra_args(false);
+  fit->add_option("--engine,-e", o.engines, "fit only this engine (repeatable)")
+      ->allow_extra_args(false);
+  fit->add_option("--max-runs", o.max_runs, "runs per engine and target at most")
+      ->capture_default_str()
+      ->check(positive_integer());
+  fit->add_option("--tolerance", o.tolerance,
+                  "relative tolerance of each metric (drape_coefficient: 0.03 absolute)")
+      ->capture_default_str()
+      ->check(positive_number());
+  fit->add_option("--set,-s", o.overrides, "override a key of every scenario (repeatable)")
+      ->allow_extra_args(false);
+  fit->add_option("--out,-o", a->out_dir, "output folder")->required();
+  fit->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
+  return {fit, [a] { return execute_fit(*a); }, false};
+}
+
+}  // namespace clothbench::cli

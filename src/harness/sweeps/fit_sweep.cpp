@@ -1,0 +1,416 @@
+#include "harness/sweeps/fit_sweep.hpp"
+
+#include <toml++/toml.h>
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <regex>
+#include <sstream>
+
+#include "format/number_format.hpp"
+#include "harness/io/csv_writer.hpp"
+#include "harness/io/output_schema.hpp"
+#include "harness/io/staged_folder.hpp"
+#include "harness/io/text_file.hpp"
+#include "harness/io/toml_text.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/run/engine_metric.hpp"
+#include "harness/run/runner.hpp"
+#include "harness/scenario/scenario_loader.hpp"
+#include "harness/scenario/scenario_overrides.hpp"
+
+namespace clothbench {
+
+namespace {
+
+/// The prefix of a parameter that is the engine's own key ("engine.klst").
+constexpr const char* kEngineKey = "engine.";
+
+/// The keys a parameter sets: "a+b" sets a and b.
+std::vector<std::string> parameter_keys(const std::string& parameter) {
+  std::vector<std::string> keys;
+  std::stringstream ss(parameter);
+  for (std::string k; std::getline(ss, k, '+');) keys.push_back(k);
+  return keys;
+}
+
+/// The --set texts that give parameter the value v on the engine called engine.
+std::vector<std::string> parameter_sets(const std::string& parameter, const std::string& engine,
+                                        double v) {
+  std::vector<std::string> sets;
+  for (const std::string& k : parameter_keys(parameter))
+    sets.push_back((k.rfind(kEngineKey, 0) == 0 ? "engine." + engine + "." + k.substr(7) : k) +
+                   "=" + cloth::toml_double(v));
+  return sets;
+}
+
+/// The value a parameter has in s for engine e, when the harness can say it.
+std::optional<double> current_value(const std::string& parameter, const EngineSpec& e,
+                                    const Scenario& s) {
+  const cloth::ClothParams& c = engine_scene(s, e).cloth;
+  const std::string k = parameter_keys(parameter).front();
+  if (k == "cloth.stiffness.bend") return c.k_bend;
+  if (k == "cloth.stiffness.structural") return c.k_structural;
+  if (k == "cloth.stiffness.shear") return c.k_shear;
+  if (k == "cloth.bending_rigidity") return c.bending_rigidity;
+  if (k == "cloth.damping") return c.damping;
+  if (k == "engine.klst") return e.bullet.klst;
+  return std::nullopt;
+}
+
+/// The engine called name in s, or null.
+const EngineSpec* find_engine(const Scenario& s, const std::string& name) {
+  for (const EngineSpec& e : s.engines)
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+}  // namespace
+
+std::string default_parameter(const std::string& metric, const EngineSpec& e, const Scenario& s) {
+  const cloth::ClothParams& c = engine_scene(s, e).cloth;
+  const bool klst = e.kind == EngineKind::bullet_softbody &&
+                    e.bullet.stiffness == reference::SoftbodyStiffness::klst;
+  if (klst) return "engine.klst";
+  if (metric == "bending_length" || metric == "bending_length_peirce" ||
+      metric == "flexural_rigidity" || metric == "drape_coefficient")
+    return c.bend_model == cloth::BendModel::hinge ? "cloth.bending_rigidity"
+                                                   : "cloth.stiffness.bend";
+  if (metric == "tensile_stiffness")
+    return e.kind == EngineKind::bullet_deformable && c.k_shear > 0
+               ? "cloth.stiffness.structural+cloth.stiffness.shear"
+               : "cloth.stiffness.structural";
+  throw UserError("--target " + metric + ": no default parameter for this metric on engine " +
+                  e.name + "; name one with --range KEY=LO:HI");
+}
+
+namespace {
+
+/// One fit's context: the scenarios as loaded (every engine) and what has been fitted so far.
+struct FitJob {
+  const FitOptions& o;
+  std::vector<Scenario> scenarios;
+  std::vector<size_t> target_scenario;  // per target, the scenario giving its metric
+  FitOutcome outcome;
+};
+
+/// The metric of one run of engine on scenario k, with extra --set texts after the fitted ones.
+double measure(FitJob& job, size_t k, const std::string& engine, const std::string& metric,
+               const std::vector<std::string>& extra) {
+  std::vector<std::string> sets = job.o.overrides;
+  for (const auto& [key, v] : job.outcome.fitted[engine]) {
+    const auto more = parameter_sets(key, engine, v);
+    sets.insert(sets.end(), more.begin(), more.end());
+  }
+  sets.insert(sets.end(), extra.begin(), extra.end());
+  Scenario sc = load_scenario(job.o.scenarios[k], sets, {engine});
+  // the engine alone: the reference runs only when it is the one fitted
+  sc.engines.erase(std::remove_if(sc.engines.begin(), sc.engines.end(),
+                                  [&](const EngineSpec& e) { return e.name != engine; }),
+                   sc.engines.end());
+  sc.reference = engine;
+  RunOptions ro;
+  ro.progress = false;
+  ro.keep_positions = sc.test.kind == "strip-tensile";  // its curve reads every frame
+  const RunResult r = run_scenario(sc, ro);
+  return engine_metric(r, r.runs.front(), metric).value_or(NAN);
+}
+
+/// The solver's options for target t of engine e (its parameter already in row).
+FitSolverOptions solver_options(FitJob& job, size_t t, const EngineSpec& e, const FitRow& row) {
+  const FitOptions& o = job.o;
+  FitSolverOptions so;
+  so.target = o.targets[t].value;
+  so.relative = o.targets[t].metric != "drape_coefficient";
+  so.tolerance = so.relative ? o.tolerance : kDrapeTolerance;
+  so.max_runs = o.max_runs;
+  if (t < o.ranges.size()) {
+    so.lo = o.ranges[t].lo;
+    so.hi = o.ranges[t].hi;
+  }
+  // a link stiffness is a fraction of a full projection
+  if (row.parameter == "engine.klst") {
+    so.hi = std::min(so.hi, 1.0);
+    if (so.lo == 0.0) so.lo = 1e-6;
+  }
+  // the start: what an earlier target fitted, else the scene's value, else mid-range
+  std::optional<double> start;
+  for (const auto& [key, v] : job.outcome.fitted[e.name])
+    if (key == row.parameter) start = v;
+  if (!start) start = current_value(row.parameter, e, job.scenarios[row.scenario]);
+  if (!start || !(*start > 0.0)) {
+    if (!(so.lo > 0.0) || !std::isfinite(so.hi))
+      throw UserError("--range: " + row.parameter + " on engine " + e.name +
+                      " has no positive value in the scenario to start from; give its range "
+                      "with --range " +
+                      row.parameter + "=LO:HI");
+    start = std::sqrt(so.lo * so.hi);
+  }
+  so.start = std::clamp(*start, so.lo > 0.0 ? so.lo : *start, so.hi);
+  return so;
+}
+
+/// The progress line of one run: parameter value, metric and target.
+void show_run(const FitJob& job, const FitRow& row, int n, double p, double m) {
+  if (!job.o.progress) return;
+  char line[256];
+  std::snprintf(line, sizeof line, "fit %s %s: run %d, %s = %.4g -> %.4g (target %.4g)\n",
+                row.engine.c_str(), row.metric.c_str(), n, row.parameter.c_str(), p, m, row.target);
+  std::cerr << line << std::flush;
+}
+
+/// Fits target t on engine; the row says how.
+FitRow fit_one(FitJob& job, const std::string& engine, size_t t) {
+  const FitTarget& target = job.o.targets[t];
+  FitRow row;
+  row.engine = engine;
+  row.metric = target.metric;
+  row.target = target.value;
+  row.scenario = job.target_scenario[t];
+  row.achieved = row.sensitivity = NAN;
+  const Scenario& s = job.scenarios[row.scenario];
+  const EngineSpec* e = find_engine(s, engine);
+  if (!e) {
+    row.status = "no engine";
+    row.note = s.source + " has no engine " + engine;
+    return row;
+  }
+  row.parameter =
+      t < job.o.ranges.size() ? job.o.ranges[t].key : default_parameter(target.metric, *e, s);
+  const FitSolverOptions so = solver_options(job, t, *e, row);
+  int n = 0;
+  const auto metric = [&](double p) {
+    const double m =
+        measure(job, row.scenario, engine, row.metric, parameter_sets(row.parameter, engine, p));
+    show_run(job, row, ++n, p, m);
+    return m;
+  };
+  const FitResult r = solve_monotone(metric, so);
+  row.value = r.parameter;
+  row.achieved = r.metric;
+  row.runs = static_cast<int>(r.samples.size());
+  row.sensitivity = r.sensitivity;
+  row.status = fit_status_name(r.status);
+  row.note = r.note;
+  return row;
+}
+
+/// Loads the scenarios and finds the one that gives each target's metric.
+void plan(FitJob& job) {
+  std::vector<std::string> files;
+  for (const std::string& path : job.o.scenarios) {
+    job.scenarios.push_back(load_scenario(path, job.o.overrides));
+    // each gives fitted/<its file name>
+    const std::string name = std::filesystem::path(path).filename().string();
+    if (std::find(files.begin(), files.end(), name) != files.end())
+      throw UserError(path + ": another scenario has the file name " + name +
+                      "; the fitted files would collide in fitted/");
+    files.push_back(name);
+  }
+  for (const FitTarget& t : job.o.targets) {
+    std::string given;
+    size_t k = 0;
+    for (; k < job.scenarios.size(); ++k) {
+      const auto names = metric_names(job.scenarios[k]);
+      if (std::find(names.begin(), names.end(), t.metric) != names.end()) break;
+      for (const std::string& n : names) given += (given.empty() ? "" : ", ") + n;
+    }
+    if (k == job.scenarios.size())
+      throw UserError("--target " + t.metric + ": none of the scenarios gives " + t.metric +
+                      (given.empty() ? " (they give no metric)" : " (they give " + given + ")"));
+    job.target_scenario.push_back(k);
+  }
+}
+
+/// The engines to fit: the ones asked for (each in some scenario), else every engine.
+std::vector<std::string> engines_to_fit(const FitJob& job) {
+  std::vector<std::string> all;
+  for (const Scenario& s : job.scenarios)
+    for (const EngineSpec& e : s.engines)
+      if (std::find(all.begin(), all.end(), e.name) == all.end()) all.push_back(e.name);
+  for (const std::string& name : job.o.engines)
+    if (std::find(all.begin(), all.end(), name) == all.end())
+      throw UserError("--engine " + name + ": no scenario has an engine of that name");
+  return job.o.engines.empty() ? all : job.o.engines;
+}
+
+/// The fitted value of parameter for engine, replacing an earlier one.
+void keep_fitted(FitOutcome& outcome, const std::string& engine, const std::string& parameter,
+                 double v) {
+  auto& fitted = outcome.fitted[engine];
+  for (auto& [key, value] : fitted)
+    if (key == parameter) {
+      value = v;
+      return;
+    }
+  fitted.emplace_back(parameter, v);
+}
+
+}  // namespace
+
+namespace {
+
+/// Passes over an engine's targets at most: a later target's fit can move an earlier one's
+/// metric, which the next pass fits again from there (coordinate descent over the parameters).
+constexpr int kFitPasses = 3;
+
+/// True when row's achieved metric is within the tolerance of its target.
+bool within(const FitOptions& o, const FitRow& row) {
+  const double tol =
+      row.metric == "drape_coefficient" ? kDrapeTolerance : o.tolerance * std::abs(row.target);
+  return std::abs(row.achieved - row.target) <= tol;
+}
+
+/// Fits every target on engine (see kFitPasses); appends its rows to the outcome.
+void fit_engine(FitJob& job, const std::string& engine) {
+  const FitOptions& o = job.o;
+  std::vector<FitRow> rows(o.targets.size());
+  std::vector<bool> todo(o.targets.size(), true);
+  for (int pass = 0; pass < kFitPasses; ++pass) {
+    for (size_t t = 0; t < o.targets.size(); ++t) {
+      if (!todo[t]) continue;
+      const int before = rows[t].runs;
+      rows[t] = fit_one(job, engine, t);
+      rows[t].runs += before;
+      if (rows[t].status != "no engine" && rows[t].status != "failed")
+        keep_fitted(job.outcome, engine, rows[t].parameter, rows[t].value);
+    }
+    std::fill(todo.begin(), todo.end(), false);
+    if (o.targets.size() < 2) break;
+    // each metric again at the engine's values now; a converged one moved off is fitted again
+    bool done = true;
+    for (FitRow& row : rows) {
+      const size_t t = size_t(&row - rows.data());
+      if (row.status == "no engine" || row.status == "failed") continue;
+      row.achieved = measure(job, row.scenario, engine, row.metric, {});
+      row.runs += 1;
+      todo[t] = row.status == "converged" && !within(o, row);
+      done = done && !todo[t];
+    }
+    if (done) break;
+  }
+  for (size_t t = 0; t < rows.size(); ++t)
+    if (todo[t]) {
+      rows[t].status = "budget";
+      rows[t].note = "the engine's other fits keep moving it off its target";
+    }
+  job.outcome.rows.insert(job.outcome.rows.end(), rows.begin(), rows.end());
+}
+
+}  // namespace
+
+FitOutcome run_fit(const FitOptions& o) {
+  FitJob job{o, {}, {}, {}};
+  plan(job);
+  for (const std::string& engine : engines_to_fit(job)) fit_engine(job, engine);
+  return std::move(job.outcome);
+}
+
+namespace {
+
+/// The [[engine]] tables of root, in file order.
+std::vector<toml::table*> engine_tables(toml::table& root) {
+  std::vector<toml::table*> out;
+  if (toml::array* a = root["engine"].as_array())
+    for (toml::node& n : *a)
+      if (toml::table* t = n.as_table()) out.push_back(t);
+  return out;
+}
+
+/// root's relative cloth.mesh made absolute against the scenario's folder.
+void absolute_mesh(toml::table& root, const std::string& path) {
+  toml::value<std::string>* mesh = root["cloth"]["mesh"].as_string();
+  if (!mesh || std::filesystem::path(mesh->get()).is_absolute()) return;
+  const std::filesystem::path folder = std::filesystem::absolute(path).parent_path();
+  *mesh = (folder / mesh->get()).lexically_normal().string();
+}
+
+/// text with every float of 16 or more digits (how the TOML writer prints 0.2) shortened to
+/// the shortest decimal that reads back as the same double.
+std::string shortest_floats(const std::string& text) {
+  static const std::regex long_float(R"([-+]?\d+\.\d{12,}(e[-+]?\d+)?)");
+  std::string out;
+  auto last = text.cbegin();
+  for (std::sregex_iterator it(text.begin(), text.end(), long_float), end; it != end; ++it) {
+    out.append(last, (*it)[0].first);
+    out += cloth::toml_double(std::stod(it->str()));
+    last = (*it)[0].second;
+  }
+  return out.append(last, text.cend());
+}
+
+}  // namespace
+
+std::string fitted_scenario_text(const std::string& path, const FitOptions& o,
+                                 const FitOutcome& outcome) {
+  const Scenario s = load_scenario(path, o.overrides);
+  toml::table root = toml::parse(read_existing_text(path), path);
+  for (const std::string& set : o.overrides) apply_override(root, set);
+  absolute_mesh(root, path);
+  const std::vector<toml::table*> tables = engine_tables(root);
+  for (size_t k = 0; k < tables.size() && k < s.engines.size(); ++k) {
+    const auto it = outcome.fitted.find(s.engines[k].name);
+    if (it == outcome.fitted.end()) continue;
+    // scene keys into the engine's overrides, its own keys into its table
+    toml::table& t = *tables[k];
+    if (!t.contains("overrides")) t.insert("overrides", toml::table{});
+    toml::table& own = *t["overrides"].as_table();
+    own.is_inline(true);
+    for (const auto& [parameter, v] : it->second)
+      for (const std::string& key : parameter_keys(parameter)) {
+        if (key.rfind(kEngineKey, 0) == 0)
+          t.insert_or_assign(key.substr(7), v);
+        else
+          own.insert_or_assign(key, v);
+      }
+    if (own.empty()) t.erase("overrides");
+  }
+  std::ostringstream text;
+  text << "# " << std::filesystem::path(path).filename().string()
+       << " with each engine's values fitted by clothbench fit (fit.csv beside this folder)\n"
+       << root << "\n";
+  return shortest_floats(text.str());
+}
+
+void write_fit(const FitOptions& o, const FitOutcome& outcome, const std::string& dir) {
+  make_directories(dir);
+  StagedFolder staged(dir);
+  staged.owns("fitted");
+  CsvWriter csv(staged.path() + "fit.csv", output_header("fit.csv"));
+  for (const FitRow& r : outcome.rows) {
+    csv.add(r.engine).add(r.parameter);
+    if (r.status == "no engine")
+      csv.skip();
+    else
+      csv.add(r.value);
+    csv.add(r.metric).add(r.target);
+    // undefined values stay empty
+    for (const double v : {r.achieved, (r.achieved - r.target) / std::abs(r.target)})
+      if (std::isfinite(v))
+        csv.add(v);
+      else
+        csv.skip();
+    csv.add(r.runs);
+    if (std::isfinite(r.sensitivity))
+      csv.add(r.sensitivity);
+    else
+      csv.skip();
+    csv.add(r.status).end_row();
+  }
+  std::filesystem::create_directories(staged.path() + "fitted");
+  std::vector<std::unique_ptr<AtomicFile>> files;
+  for (const std::string& path : o.scenarios) {
+    files.push_back(std::make_unique<AtomicFile>(staged.path() + "fitted/" +
+                                                 std::filesystem::path(path).filename().string()));
+    files.back()->write(fitted_scenario_text(path, o, outcome));
+  }
+  csv.commit();
+  for (auto& f : files) f->commit();
+  staged.commit();
+}
+
+}  // namespace clothbench

@@ -1,0 +1,111 @@
+// The one-parameter solver of clothbench fit on analytic monotone functions: it brackets and
+// converges from far away, in either direction, says when a target is out of reach, and
+// treats a run without a metric (a blow-up) as the end of the range.
+
+#include <catch2/catch.hpp>
+#include <cmath>
+
+#include "harness/sweeps/fit_solver.hpp"
+
+using namespace clothbench;
+
+namespace {
+
+/// Options for target with the solver's default tolerance (3 %), from start.
+FitSolverOptions aim(double target, double start) {
+  FitSolverOptions o;
+  o.target = target;
+  o.start = start;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("the fit solver converges on monotone functions from far away", "[fit]") {
+  // a bending length grows as the cube root of the stiffness; a sag falls as 1 / stiffness
+  const double k0 = GENERATE(0.02, 3.0, 4000.0);
+  const double start = GENERATE(1.0, 1000.0);
+  const auto cube_root = [](double k) { return 0.01 * std::cbrt(k); };
+  const auto inverse = [](double k) { return 2.0 / k; };
+  for (const auto& f :
+       {std::function<double(double)>(cube_root), std::function<double(double)>(inverse)}) {
+    FitSolverOptions o = aim(f(k0), start);
+    o.lo = 1e-6;
+    o.hi = 1e6;
+    const FitResult r = solve_monotone(f, o);
+    CAPTURE(k0, start, r.note, r.samples.size());
+    REQUIRE(r.status == FitStatus::converged);
+    REQUIRE(std::abs(r.metric - o.target) <= o.tolerance * o.target);
+    REQUIRE(r.metric == f(r.parameter));
+    // bracketing doubles its log step, so even 1e5 away takes few runs
+    REQUIRE(r.samples.size() <= 12);
+  }
+}
+
+TEST_CASE("the fit solver measures the sensitivity on its way", "[fit]") {
+  // m = p^2, d m / d p = 2 p: the secant between the best run and its nearest neighbour (in log
+  // p) lies between the derivatives at the two (the mean value theorem, f' increasing)
+  const auto square = [](double p) { return p * p; };
+  FitSolverOptions o = aim(9.0, 1.0);
+  o.tolerance = 1e-4;
+  const FitResult r = solve_monotone(square, o);
+  REQUIRE(r.status == FitStatus::converged);
+  REQUIRE(r.parameter == Approx(3.0).epsilon(1e-4));
+  double other = 0.0;
+  for (const FitSample& s : r.samples)
+    if (s.parameter != r.parameter &&
+        (other == 0.0 ||
+         std::abs(std::log(s.parameter / r.parameter)) < std::abs(std::log(other / r.parameter))))
+      other = s.parameter;
+  const double lo = 2 * std::min(other, r.parameter), hi = 2 * std::max(other, r.parameter);
+  CAPTURE(other, r.sensitivity);
+  REQUIRE(r.sensitivity >= lo);
+  REQUIRE(r.sensitivity <= hi);
+}
+
+TEST_CASE("the fit solver says when a target is out of reach and gives the best", "[fit]") {
+  SECTION("beyond the range") {
+    FitSolverOptions o = aim(100.0, 1.0);
+    o.hi = 10.0;
+    const FitResult r = solve_monotone([](double p) { return p; }, o);
+    REQUIRE(r.status == FitStatus::unreachable);
+    REQUIRE(r.parameter == Approx(10.0));
+    REQUIRE(r.metric == Approx(10.0));
+  }
+  SECTION("on a plateau (a stiffness the engine cannot give)") {
+    FitSolverOptions o = aim(2.0, 1.0);
+    const FitResult r = solve_monotone([](double p) { return 1.0 - std::exp(-p); }, o);
+    REQUIRE(r.status == FitStatus::unreachable);
+    REQUIRE(r.metric == Approx(1.0).epsilon(1e-3));
+    REQUIRE(r.samples.size() < 12);
+  }
+  SECTION("past a blow-up") {
+    // no metric above p = 50: the range ends there
+    const auto blows = [](double p) { return p < 50.0 ? std::cbrt(p) : NAN; };
+    FitSolverOptions o = aim(std::cbrt(40.0), 1.0);
+    const FitResult reached = solve_monotone(blows, o);
+    REQUIRE(reached.status == FitStatus::converged);
+    o.target = std::cbrt(100.0);
+    o.max_runs = 30;
+    const FitResult beyond = solve_monotone(blows, o);
+    REQUIRE(beyond.status == FitStatus::unreachable);
+    REQUIRE(beyond.parameter < 50.0);
+    REQUIRE(beyond.parameter > 45.0);
+  }
+  SECTION("no run gives a metric") {
+    const FitResult r = solve_monotone([](double) { return NAN; }, aim(1.0, 1.0));
+    REQUIRE(r.status == FitStatus::failed);
+    REQUIRE(std::isnan(r.metric));
+  }
+}
+
+TEST_CASE("the fit solver stops at its run budget", "[fit]") {
+  FitSolverOptions o = aim(1e4, 1.0);
+  o.max_runs = 3;
+  o.hi = 1e9;
+  const FitResult r = solve_monotone([](double p) { return p; }, o);
+  REQUIRE(r.status == FitStatus::budget);
+  REQUIRE(r.samples.size() == 3);
+  // the best of the three: the last, furthest up
+  REQUIRE(r.parameter == r.samples.back().parameter);
+}
