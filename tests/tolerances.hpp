@@ -207,10 +207,5 @@ constexpr double kFabricMesh = 0.1;
 /// ... and its isotropy: the jitter is isotropic in the mean; 1.3 % measured at 0.6 m, 5 %
 /// leaves room for the boundary (8 % at 0.15 m, where the boundary is 6 % of the area).
 constexpr double kFabricMeshIsotropy = 0.05;
-/// The hinge model's excess fall, known and not yet explained (docs/methods.md, the hinge
-/// section): a strip of overhang 2 c falls up to 1.095 times the heavy elastica's tip drop
-/// (1.051 to 1.095 over spacings c/10 and c/20 and stretch 1e4 to 1e6 N/m). A preset's
-/// cantilever may read a bending length as low as that fall implies, and no lower.
-constexpr double kHingeFallExcess = 0.095;
 
 }  // namespace clothbench::tol
