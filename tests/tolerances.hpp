@@ -166,6 +166,11 @@ constexpr double kHingeCylinderGrid = 1e-3;
 /// Hinge bending on a jittered mesh: the cotangent Laplacian of an irregular mesh converges
 /// in the mean, not pointwise; the bound is the 1 % on the energy's constant.
 constexpr double kHingeCylinderMesh = 0.01;
+/// Hinge bending of a small saddle or twist on a jittered mesh: the per-vertex Hessian of an
+/// irregular mesh, like its cotangent Laplacian, is right in the mean, not at each vertex, and
+/// its square overestimates; measured on the test's 0.2 m square at edges 10, 5, 2.5 mm:
+/// saddle +0.7, +0.8, +0.9 %, twist +2.3, +1.7, +1.2 % (a squared Laplacian: -100 %).
+constexpr double kHingePlateMesh = 0.025;
 /// The goal: the cantilever's tip within 1 % of the heavy elastica at spacing <= c/10.
 constexpr double kCantileverTip = 0.01;
 /// The goal: bending lengths inverted at c/5, c/10 and c/20 within 3 % of each other.
@@ -202,10 +207,5 @@ constexpr double kFabricMesh = 0.1;
 /// ... and its isotropy: the jitter is isotropic in the mean; 1.3 % measured at 0.6 m, 5 %
 /// leaves room for the boundary (8 % at 0.15 m, where the boundary is 6 % of the area).
 constexpr double kFabricMeshIsotropy = 0.05;
-/// The hinge model's excess fall, known and not yet explained (docs/methods.md, the hinge
-/// section): a strip of overhang 2 c falls up to 1.095 times the heavy elastica's tip drop
-/// (1.051 to 1.095 over spacings c/10 and c/20 and stretch 1e4 to 1e6 N/m). A preset's
-/// cantilever may read a bending length as low as that fall implies, and no lower.
-constexpr double kHingeFallExcess = 0.095;
 
 }  // namespace clothbench::tol

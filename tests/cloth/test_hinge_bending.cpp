@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/SparseCholesky>
+
 #include "cloth/forces/hinge_bending.hpp"
 #include "cloth/forces/spring_forces.hpp"
 #include "cloth/forces/spring_jacobians.hpp"
@@ -238,8 +240,8 @@ TEST_CASE(
       x(1, p) += lift * (shape == 0 ? 0.5 * k * (u * u - v * v) : k * u * v);
     }
     const double e = bending_energy(m.springs.bending, x);
-    REQUIRE(e ==
-            Approx(expected).epsilon(mesh ? tol::kHingeCylinderMesh : tol::kHingeCylinderGrid));
+    CAPTURE(e / expected);
+    REQUIRE(e == Approx(expected).epsilon(mesh ? tol::kHingePlateMesh : tol::kHingeCylinderGrid));
   }
 }
 
@@ -344,6 +346,56 @@ double settled_tip_drop(const Strip& s) {
 
 }  // namespace
 
+TEST_CASE("hinge cantilever: at small deflection the tip falls w L^4 / (8 B), not curling across",
+          "[hinge]") {
+  // linear statics of the out-of-plane rows alone, Q_ff y_f = -g m_f on the free particles:
+  // the strip is a clamped beam of rigidity B per width under w = rho_A g per area, whatever
+  // its width (Poisson ratio 0), and its tip falls w L^4 / (8 B). A beam of N linear elements
+  // with this clamp falls (1 + O(1 / N^2)) times that (1.0025 at N = 20); with the held
+  // triangles counted the clamp would move h / 2 back (1 + 2 / N: 1.10), and a squared
+  // Laplacian would let the strip curl across
+  const double width = GENERATE(0.025, 0.1);
+  CAPTURE(width);
+  Strip s;
+  s.overhang = 0.1;
+  s.spacing = 0.005;
+  s.width = width;
+  s.rigidity = 2.45e-4;
+  const Model m = strip_model(s);
+  std::vector<int> free_of(size_t(m.particle_count()), -1), free;
+  for (Eigen::Index p = 0; p < m.particle_count(); ++p)
+    if (m.free(1, p) > 0) {
+      free_of[size_t(p)] = int(free.size());
+      free.push_back(int(p));
+    }
+  std::vector<Eigen::Triplet<double>> t;
+  const auto& q = m.springs.bending.q;
+  for (int col = 0; col < q.outerSize(); ++col)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(q, col); it; ++it)
+      if (free_of[size_t(it.row())] >= 0 && free_of[size_t(col)] >= 0)
+        t.emplace_back(free_of[size_t(it.row())], free_of[size_t(col)], it.value());
+  Eigen::SparseMatrix<double> qff(Eigen::Index(free.size()), Eigen::Index(free.size()));
+  qff.setFromTriplets(t.begin(), t.end());
+  Eigen::VectorXd load(qff.rows());
+  for (size_t i = 0; i < free.size(); ++i) load[Eigen::Index(i)] = -kG * m.mass[free[i]];
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt(qff);
+  REQUIRE(ldlt.info() == Eigen::Success);
+  const Eigen::VectorXd y = ldlt.solve(load);
+  // the free end's particles: mean fall and the spread across the width
+  double sum = 0.0, lo = 1e9, hi = -1e9;
+  for (int j = 0; j < m.nv; ++j) {
+    const double yj = y[free_of[size_t(j * m.nu + m.nu - 1)]];
+    sum += yj;
+    lo = std::min(lo, yj);
+    hi = std::max(hi, yj);
+  }
+  const double drop = -sum / m.nv;
+  const double beam = s.areal * kG * std::pow(s.overhang, 4) / (8 * s.rigidity);
+  CAPTURE(drop / beam, (hi - lo) / drop);
+  REQUIRE(drop == Approx(beam).epsilon(tol::kCantileverTip));
+  REQUIRE(hi - lo <= tol::kCantileverTip * drop);
+}
+
 TEST_CASE("hinge cantilever: diagnosis", "[.hinge-diag]") {
   const double c = 0.05, areal = 0.2;
   {
@@ -399,8 +451,9 @@ TEST_CASE("the test's elastica: the small-deflection limit w L^4 / (8 B)", "[hin
   REQUIRE(clothbench::test::bending_length_from_drop(0.1, drop) == Approx(0.05).epsilon(1e-9));
 }
 
-// THE GOAL of issue 31; it fails (docs/methods.md, "The hinge model"): hidden until it holds
-TEST_CASE("hinge cantilever: the tip falls as the heavy elastica says", "[.hinge-goal]") {
+// THE GOAL of issue 31 (docs/methods.md, "The hinge model"); about 15 s in a release build,
+// so ctest runs it with label slow (hinge.cantilever_goal)
+TEST_CASE("hinge cantilever: the tip falls as the heavy elastica says", "[.hinge-long]") {
   // c = 5 cm (B = rho_A g c^3), overhang 2 c, spacing c / 10 and c / 20
   const double c = 0.05, areal = 0.2;
   const double spacing = GENERATE(0.005, 0.0025);
@@ -418,7 +471,7 @@ TEST_CASE("hinge cantilever: the tip falls as the heavy elastica says", "[.hinge
 
 // THE GOAL of issue 31, its second half; see the test above
 TEST_CASE("hinge cantilever: bending lengths inverted at spacings c/5, c/10, c/20 agree",
-          "[.hinge-goal]") {
+          "[.hinge-long]") {
   const double c = 0.05, areal = 0.2;
   std::vector<double> found;
   for (double spacing : {c / 5, c / 10, c / 20}) {

@@ -2,7 +2,8 @@
 /// @file hinge_bending.hpp
 /// Force, energy and stiffness of the hinge model's bending (bending_form.hpp): with Q constant,
 /// E = 1/2 sum_r x_r^T Q x_r, f_r = -Q x_r and df/dx = -Q on every axis (x_r, f_r rows r of
-/// the 3 by #P positions and forces). No damping: the bend has no dashpot of its own.
+/// the 3 by #P positions and forces). No damping: the bend has no dashpot of its own. Each
+/// kernel walks Q's nonzeros once with the three rows together and allocates nothing.
 
 #include "cloth/model/bending_form.hpp"
 #include "cloth/model/types.hpp"
