@@ -15,7 +15,7 @@
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/runner.hpp"
-#include "harness/scenario/obj_reader.hpp"
+#include "harness/io/obj_reader.hpp"
 #include "harness/scenario/scenario_loader.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"

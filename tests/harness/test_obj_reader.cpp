@@ -8,7 +8,7 @@
 
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/io/user_error.hpp"
-#include "harness/scenario/obj_reader.hpp"
+#include "harness/io/obj_reader.hpp"
 
 using namespace clothbench;
 namespace fs = std::filesystem;

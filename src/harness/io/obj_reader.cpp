@@ -1,4 +1,4 @@
-#include "harness/scenario/obj_reader.hpp"
+#include "harness/io/obj_reader.hpp"
 
 #include <algorithm>
 #include <cerrno>
