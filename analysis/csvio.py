@@ -119,6 +119,9 @@ SCHEMAS = {
     "tests.csv": Schema(
         ["engine", "metric", "value", "unit"],
         text=["engine", "metric", "unit"], keys=["engine", "metric", "unit"]),
+    # a strip-tensile [test]: one frame of one engine's force-strain curve
+    "tensile.csv": Schema(
+        ["engine", "t", "strain", "force_per_width"], text=["engine"], keys=["engine", "t"]),
     "attribution.csv": Schema(
         ["engine", "reference", "matched", "at", "t", "total_rms", "scheme_rms", "model_rms",
          "note"],

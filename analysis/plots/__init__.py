@@ -5,12 +5,12 @@ shows in its place."""
 
 from . import (convergence, divergence, drape, energy, reference, resolution,
                resolution_recommendation, self_contact, shadow, stability, stability_map,
-               stability_mode, standard_tests, strain, work_precision)
+               stability_mode, standard_tests, strain, tensile_curve, work_precision)
 
 # in the order the report shows them
-ALL = [energy, divergence, strain, self_contact, drape, shadow, standard_tests, work_precision,
-       convergence, resolution, stability, stability_mode, stability_map, reference,
-       resolution_recommendation]
+ALL = [energy, divergence, strain, self_contact, drape, shadow, standard_tests, tensile_curve,
+       work_precision, convergence, resolution, stability, stability_mode, stability_map,
+       reference, resolution_recommendation]
 
 
 class Context:

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <random>
+#include <string>
 #include <vector>
 
 #include "cloth/forces/hinge_bending.hpp"
@@ -217,6 +218,31 @@ TEST_CASE("hinge bending: a cylinder on a jittered mesh stores B k^2 / 2 per are
   }
 }
 
+TEST_CASE(
+    "hinge bending: a plate of Poisson ratio 0: a saddle and a twist store B/2 (k1^2 + k2^2) "
+    "per area",
+    "[hinge]") {
+  // a small lift y = w(x, z) of the flat sheet stores B/2 int |Hess w|^2 dA (nu = 0): for the
+  // saddle w = k (x^2 - z^2) / 2 and the twist w = k x z, k1 = -k2 = k and the energy is B k^2
+  // per area; a squared Laplacian (nu = 1) would store nothing, free edges or not
+  const bool mesh = GENERATE(false, true);
+  CAPTURE(mesh);
+  const double b = 1.5e-5, k = 10.0, lift = 1e-3;  // the lift scales out: E is quadratic
+  const Model m = build_model(mesh ? hinge_mesh(0.2, 0.005, b) : hinge_grid(81, 81, 0.2, 0.2, b));
+  const double expected = b * k * k * rest_area(m) * lift * lift;
+  for (int shape : {0, 1}) {
+    CAPTURE(shape);
+    Matrix3X x = m.x0;
+    for (Eigen::Index p = 0; p < x.cols(); ++p) {
+      const double u = m.x0(0, p), v = m.x0(2, p);
+      x(1, p) += lift * (shape == 0 ? 0.5 * k * (u * u - v * v) : k * u * v);
+    }
+    const double e = bending_energy(m.springs.bending, x);
+    REQUIRE(e ==
+            Approx(expected).epsilon(mesh ? tol::kHingeCylinderMesh : tol::kHingeCylinderGrid));
+  }
+}
+
 TEST_CASE("hinge bending: a curved rest shape and a rigidity <= 0 are refused", "[hinge]") {
   Scene s = hinge_grid(5, 5, 0.1, 0.1, 0.0);
   REQUIRE_THROWS_WITH(build_model(s), Catch::Contains("bending rigidity > 0"));
@@ -237,9 +263,8 @@ struct Strip {
   double rigidity = 0.0;   // N m, the hinge's B
   double k_bend = 0.0;     // N/m, the bend springs'
   double stretch = 1.0e4;  // N/m, structural and shear: strain below 1e-5 here
+  double width = 0.025;    // m, W
 };
-
-constexpr double kStripWidth = 0.025;  // m
 
 /// The strip's model, its particles weighing rho_A times their barycentric area (the plate's
 /// mass, so the weight per length is uniform up to the ends).
@@ -248,9 +273,9 @@ Model strip_model(const Strip& s) {
   Scene scene;
   ClothParams& c = scene.cloth;
   c.nu = along + 3;
-  c.nv = int(std::ceil(kStripWidth / s.spacing - 1e-9)) + 1;
+  c.nv = int(std::ceil(s.width / s.spacing - 1e-9)) + 1;
   c.size_u = (c.nu - 1) * s.spacing;
-  c.size_v = kStripWidth;
+  c.size_v = s.width;
   c.center = {0.5 * (s.overhang - 2 * s.spacing), 0.0, 0.0};
   c.k_structural = c.k_shear = s.stretch;
   c.k_bend = s.model == BendModel::hinge ? 0.0 : s.k_bend;
@@ -264,8 +289,14 @@ Model strip_model(const Strip& s) {
   for (Eigen::Index p = 0; p < x0.cols(); ++p)
     if (x0(0, p) <= 1e-9) scene.held[size_t(p)] = kHoldAll;
   Model m = build_model(scene);
-  if (std::getenv("HINGE_EDGE") && s.model == BendModel::hinge)
+  // HINGE_FORM=laplacian, edge or unclamped (no rigid clamp): the diagnosis's comparisons
+  const char* form = std::getenv("HINGE_FORM");
+  if (form && s.model == BendModel::hinge && std::string(form) == "edge")
     m.springs.bending = build_edge_bending_form(m.x0, m.triangles, s.rigidity);
+  if (form && s.model == BendModel::hinge && std::string(form) == "laplacian")
+    m.springs.bending = build_laplacian_bending_form(m.x0, m.triangles, s.rigidity);
+  if (form && s.model == BendModel::hinge && std::string(form) == "unclamped")
+    m.springs.bending = build_bending_form(m.x0, m.triangles, s.rigidity);
   m.mass.setZero();
   for (const Triangle& t : m.triangles) {
     const double a =
@@ -326,7 +357,7 @@ TEST_CASE("hinge cantilever: diagnosis", "[.hinge-diag]") {
     for (Eigen::Index p = 0; p < x.cols(); ++p)
       if (m.x0(0, p) > 0) x(1, p) = -0.5 * a * m.x0(0, p) * m.x0(0, p);
     std::printf("parabola energy %.6g plate %.6g\n", bending_energy(m.springs.bending, x),
-                0.5 * s.rigidity * a * a * s.overhang * kStripWidth);
+                0.5 * s.rigidity * a * a * s.overhang * s.width);
     Matrix3X f = Matrix3X::Zero(3, x.cols());
     add_bending_forces(m.springs.bending, x, f);
     double tot = 0;
@@ -334,12 +365,19 @@ TEST_CASE("hinge cantilever: diagnosis", "[.hinge-diag]") {
       if (m.x0(0, p) > 0) tot += f(1, p);
     std::printf("free force sum %.6g mass %.6g\n", tot, m.mass.sum());
   }
+  // HINGE_DIAG_{SPACING,STRETCH,WIDTH} (m, N/m, m) override the strip below
+  auto env = [](const char* name, double fallback) {
+    const char* v = std::getenv(name);
+    return v ? std::atof(v) : fallback;
+  };
   for (double lambda : {0.5, 1.0, 1.5, 2.0}) {
+    if (env("HINGE_DIAG_LAMBDA", lambda) != lambda) continue;
     Strip s;
     s.overhang = lambda * c;
-    s.spacing = 0.0025;
+    s.spacing = env("HINGE_DIAG_SPACING", 0.0025);
     s.areal = areal;
-    s.stretch = 1e5;
+    s.stretch = env("HINGE_DIAG_STRETCH", 1e5);
+    s.width = env("HINGE_DIAG_WIDTH", 0.025);
     s.rigidity = areal * kG * c * c * c;
     const double drop = settled_tip_drop(s);
     std::printf("lambda %g drop %.6g elastica %.6g ratio %.5f\n", lambda, drop,

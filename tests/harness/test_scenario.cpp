@@ -671,13 +671,15 @@ TEST_CASE("test table: refusals name the key and say why", "[scenario]") {
     return std::string("accepted");
   };
   // the other kinds are not measured yet
-  CHECK_THAT(message(cantilever_text("[test]\nkind = \"strip-tensile\"\n")),
+  CHECK_THAT(message(cantilever_text("[test]\nkind = \"bias-extension\"\n")),
              Contains("test.kind") && Contains("not yet"));
   // a drape needs a held disk (the box here is not one) and takes no edge
   CHECK_THAT(message(cantilever_text("[test]\nkind = \"drape\"\n")),
              Contains("test.kind") && Contains("within"));
   CHECK_THAT(message(cantilever_text("[test]\nkind = \"drape\"\nedge = 0.0\n")),
              Contains("test.edge") && Contains("no edge"));
+  CHECK_THAT(message(cantilever_text("[test]\nkind = \"drape\"\nfit_strain = 0.1\n")),
+             Contains("test.fit_strain") && Contains("no fit_strain"));
   CHECK_THAT(message(cantilever_text("[test]\nkind = \"cantilevr\"\n")), Contains("cantilever"));
   CHECK_THAT(message(cantilever_text("[test]\nedge = 0.0\n")), Contains("expected a kind"));
   // a particle on the platform that no constraint holds (the column at x = 0 is left free)

@@ -163,8 +163,12 @@ Model build_model(const Scene& scene) {
   if (c.bend_model == BendModel::hinge) springs.k_bend = 0.0;
   m.springs = scene.mesh ? mesh_springs(springs, *scene.mesh) : build_springs(springs, m.x0);
   m.triangles = scene.mesh ? scene.mesh->triangles : grid_triangles(c.nu, c.nv);
-  if (c.bend_model == BendModel::hinge)
-    m.springs.bending = build_bending_form(m.x0, m.triangles, c.bending_rigidity);
+  // particles held on every axis are the hinge's rigid clamp
+  if (c.bend_model == BendModel::hinge) {
+    std::vector<char> rigid(size_t(n), 0);
+    for (Eigen::Index p = 0; p < n; ++p) rigid[size_t(p)] = m.free.col(p).isZero() ? 1 : 0;
+    m.springs.bending = build_bending_form(m.x0, m.triangles, c.bending_rigidity, rigid);
+  }
   m.gravity = scene.gravity;
   m.air_drag = c.air_drag;
   m.self_collision = c.self_collision;

@@ -49,6 +49,14 @@ struct ClothParams {
   bool self_collision = false;    // keep layers of the cloth apart (engines that can)
   double thickness = 0.004;       // m, the distance self-contact keeps layers apart
   double self_friction = 0.0;     // Coulomb coefficient of cloth on cloth
+  // a grid's structural springs along v (k_structural is then those along u); < 0: the same
+  double k_structural_v = -1.0;  // N/m
+
+  /// The stiffness of a grid's structural springs along v (N/m): k_structural_v, or
+  /// k_structural when it is < 0 (the same along u and v).
+  double structural_v() const { return k_structural_v < 0.0 ? k_structural : k_structural_v; }
+  /// True when a grid's structural springs differ along u and v.
+  bool anisotropic() const { return structural_v() != k_structural; }
 };
 
 /// Prescribed rigid translation, the one mechanism of moving colliders and handles: a constant

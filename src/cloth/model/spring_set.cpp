@@ -231,7 +231,7 @@ SpringSet build_springs(const ClothParams& c, const Matrix3X& x0) {
   // structural, shear (both diagonals) and bend directions; each joins (i,j) to (i+di, j+dj)
   const Direction dirs[] = {
       {SpringKind::structural, 1, 0, c.k_structural},
-      {SpringKind::structural, 0, 1, c.k_structural},
+      {SpringKind::structural, 0, 1, c.structural_v()},
       {SpringKind::shear, 1, 1, c.k_shear},
       {SpringKind::shear, -1, 1, c.k_shear},
       {SpringKind::bend, 2, 0, c.k_bend},

@@ -137,11 +137,25 @@ std::vector<OutputFile> comparison_files() {
              "cantilever: chord_angle, tip_deflection, overhang, bending_length (the elastica's), "
              "bending_length_peirce, flexural_rigidity; drape: drape_coefficient, folds (local "
              "maxima of the outline's radius around the support's axis, smoothed over 10 "
-             "degrees), min_radius and max_radius of that smoothed outline"},
+             "degrees), min_radius and max_radius of that smoothed outline; strip-tensile: "
+             "tensile_stiffness, fit_strain, max_strain, max_force_per_width"},
             {"value", "as unit",
-             "the metric's value; empty when undefined (the run blew up, or "
-             "a chord angle the elastica cannot invert)"},
-            {"unit", "text", "the value's unit: deg, m, N m or 1"}}},
+             "the metric's value; empty when undefined (the run blew up, "
+             "a chord angle the elastica cannot invert, fewer than 3 frames in a tensile fit, "
+             "or an engine whose forces are not the scene's springs)"},
+            {"unit", "text", "the value's unit: deg, m, N m, N/m or 1"}}},
+          {"tensile.csv",
+           "clothbench run, in the run folder, when the scenario's [test] is a strip-tensile",
+           "one frame of one custom engine's force-strain curve (the other engines' forces are "
+           "not the scene's springs: they get no rows)",
+           {kEngine,
+            kT,
+            {"strain", "1",
+             "the handle's prescribed displacement along the test's direction "
+             "over the gauge length (clamp to handle, at rest)"},
+            {"force_per_width", "N/m",
+             "the springs' elastic tension across the strip's central section at the engine's "
+             "positions, along the test's direction, over the strip's rest width"}}},
           {"divergence.csv",
            "clothbench run, in the run folder",
            "one engine other than the reference at one frame both logged",

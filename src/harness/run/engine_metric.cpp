@@ -5,6 +5,7 @@
 
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/fabric/drape_metrics.hpp"
+#include "harness/fabric/tensile_metrics.hpp"
 
 namespace clothbench {
 
@@ -37,8 +38,32 @@ std::vector<TestMetric> test_rows(const RunResult& result, const EngineRun& run,
 
 }  // namespace
 
+std::vector<TensilePoint> strip_tensile_curve(const RunResult& result, const EngineRun& run) {
+  const Scenario& sc = result.scenario;
+  if (sc.test.kind != "strip-tensile") return {};
+  if (run.spec.kind != EngineKind::custom || run.positions.size() != run.frames.size()) return {};
+  const cloth::ClothParams& c = sc.scene.cloth;
+  const bool along_u = sc.test.direction == "u";
+  const cloth::Vector3 axis = along_u                       ? cloth::Vector3::UnitX()
+                              : c.plane == cloth::Plane::xy ? cloth::Vector3::UnitY()
+                                                            : cloth::Vector3::UnitZ();
+  const cloth::Handle& handle = sc.scene.handles.at(0);
+  const TensileSetup setup = tensile_setup(result.model.x0, sc.scene.held, handle.particles, axis,
+                                           along_u ? c.size_v : c.size_u);
+  std::vector<double> t;
+  std::vector<cloth::Matrix3X> x;
+  for (size_t k = 0; k < run.frames.size() && run.frames[k].stable; ++k) {
+    t.push_back(run.frames[k].t);
+    x.push_back(run.positions[k]);
+  }
+  return tensile_curve(result.model.springs, result.model.x0, setup, handle.motion, t, x);
+}
+
 std::vector<TestMetric> test_metrics(const RunResult& result, const EngineRun& run) {
   if (result.scenario.test.kind.empty()) return {};
+  // a strip-tensile's from its curve up to a blow-up, if any
+  if (result.scenario.test.kind == "strip-tensile")
+    return tensile_rows(strip_tensile_curve(result, run), result.scenario.test.fit_strain);
   // an unsettled run's rows name the metrics with empty values
   const bool settled = run.stable && !run.snapshots.empty();
   std::vector<TestMetric> rows =
@@ -64,6 +89,8 @@ std::vector<std::string> metric_names(const Scenario& s) {
   // the rows a [test] writes, whatever their values
   if (s.test.kind == "cantilever")
     for (const TestMetric& row : cantilever_rows(CantileverMetrics{})) names.push_back(row.metric);
+  if (s.test.kind == "strip-tensile")
+    for (const TestMetric& row : tensile_rows({}, s.test.fit_strain)) names.push_back(row.metric);
   if (s.test.kind == "drape") {
     DrapeProfile flat;
     flat.radius.assign(kDrapeProfileBins, 0.0);

@@ -9,11 +9,18 @@
 #include <vector>
 
 #include "harness/fabric/cantilever_metrics.hpp"
+#include "harness/fabric/tensile_metrics.hpp"
 #include "harness/run/runner.hpp"
 
 namespace clothbench {
 
-/// The [test]'s metrics of run's final state (cantilever: cantilever_rows, drape: drape_rows),
+/// The strip-tensile curve of run (its stable frames, whose positions it needs kept); none for
+/// another test, or for an engine whose forces are not the scene's springs (every engine but
+/// the custom one).
+std::vector<TensilePoint> strip_tensile_curve(const RunResult& result, const EngineRun& run);
+
+/// The [test]'s metrics of run's final state (cantilever: cantilever_rows, drape: drape_rows;
+/// strip-tensile: tensile_rows of its curve),
 /// as tests.csv has them (empty for a scenario without a [test]); values NaN when the run did
 /// not end stable (its final shape is not a settled one) or the metric is undefined.
 std::vector<TestMetric> test_metrics(const RunResult& result, const EngineRun& run);

@@ -14,7 +14,7 @@
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/engines/engine_factory.hpp"
 #include "harness/fabric/cantilever_metrics.hpp"
-#include "harness/fabric/drape_metrics.hpp"
+#include "harness/fabric/tensile_metrics.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/staged_folder.hpp"
@@ -528,10 +528,11 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
   }
 }
 
-/// tests.csv: the [test]'s metrics of every engine's final state (empty values for a run that
-/// did not end stable: its final shape is not a settled cloth).
-void write_tests(const RunResult& result, CsvWriter& tests) {
-  for (const EngineRun& run : result.runs)
+/// tests.csv: the [test]'s metrics of every engine (empty values where undefined, e.g. for a
+/// run that did not end stable: its final shape is not a settled one); tensile.csv, when given,
+/// the strip-tensile curves.
+void write_tests(const RunResult& result, CsvWriter& tests, CsvWriter* tensile) {
+  for (const EngineRun& run : result.runs) {
     for (const TestMetric& row : test_metrics(result, run)) {
       tests.add(run.spec.name).add(row.metric);
       if (std::isfinite(row.value))
@@ -540,6 +541,10 @@ void write_tests(const RunResult& result, CsvWriter& tests) {
         tests.skip();
       tests.add(row.unit).end_row();
     }
+    if (!tensile) continue;
+    for (const TensilePoint& p : strip_tensile_curve(result, run))
+      tensile->add(run.spec.name).add(p.t).add(p.strain).add(p.force_per_width).end_row();
+  }
 }
 
 }  // namespace
@@ -586,10 +591,12 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   AtomicFile info(dir + "run.json");
   info.write(run_info_json(self_collision_json(result.scenario)));
   // the [test]'s metrics, when the scenario has one
-  std::unique_ptr<CsvWriter> tests;
+  std::unique_ptr<CsvWriter> tests, tensile;
+  if (result.scenario.test.kind == "strip-tensile")
+    tensile = std::make_unique<CsvWriter>(dir + "tensile.csv", output_header("tensile.csv"));
   if (!result.scenario.test.kind.empty()) {
     tests = std::make_unique<CsvWriter>(dir + "tests.csv", output_header("tests.csv"));
-    write_tests(result, *tests);
+    write_tests(result, *tests, tensile.get());
   }
   std::vector<std::unique_ptr<AtomicFile>> trajectory;
   write_trajectories(result, dir, trajectory);
@@ -606,6 +613,7 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   toml.commit();
   info.commit();
   if (tests) tests->commit();
+  if (tensile) tensile->commit();
   for (auto& f : trajectory) f->commit();
 }
 
@@ -617,6 +625,7 @@ void write_run(const RunResult& result, const std::string& out) {
   staged.owns("trajectory");  // the new run's, or none: never an older run's beside new CSVs
   staged.owns("mesh.obj");
   staged.owns("tests.csv");  // the new run's [test] metrics, or none
+  staged.owns("tensile.csv");
   try {
     write_run_files(result, staged.path());
   } catch (const UserError& e) {

@@ -113,7 +113,8 @@ std::string springs_json(const cloth::ClothParams& c, bool mesh) {
   std::string s;
   if (mesh) return "[]";
   auto add = [&](const char* offsets) { s += std::string(s.empty() ? "" : ", ") + offsets; };
-  if (c.k_structural > 0) add("[1, 0], [0, 1]");
+  if (c.k_structural > 0) add("[1, 0]");
+  if (c.structural_v() > 0) add("[0, 1]");
   if (c.k_shear > 0) add("[1, 1], [1, -1]");
   if (c.k_bend > 0) add("[2, 0], [0, 2]");
   return "[" + s + "]";

@@ -1,11 +1,13 @@
 #include "harness/scenario/cloth_reader.hpp"
 
+#include <algorithm>
 #include <filesystem>
 #include <memory>
 
 #include "cloth/analysis/self_intersection.hpp"
 #include "cloth/model/mesh_generator.hpp"
 #include "cloth/model/triangle_mesh.hpp"
+#include "harness/scenario/fabric_preset.hpp"
 #include "harness/scenario/obj_reader.hpp"
 
 namespace clothbench {
@@ -62,7 +64,7 @@ void read_mass(const Reader& r, const At& at, bool mesh, cloth::ClothParams& c) 
     r.fail(pm, "cloth.particle_mass",
            "a mesh's vertices weigh what their share of its area does: give areal_density "
            "(kg/m^2) or total_mass (kg) instead");
-  if (mesh && !tm && !ad)
+  if (mesh && !tm && !ad && !(c.areal_density > 0))  // a fabric gives areal_density
     r.fail(&at.table, "cloth.areal_density",
            "a mesh needs its mass: areal_density = kg/m^2 or total_mass = kg");
   c.particle_mass = r.number(at, "particle_mass", c.particle_mass, kMass);
@@ -82,10 +84,10 @@ void read_bend_model(const Reader& r, const At& at, cloth::ClothParams& c) {
     return;
   }
   c.bend_model = cloth::BendModel::hinge;
-  if (!rigidity)
+  if (!rigidity && !(c.bending_rigidity > 0))  // a fabric gives the rigidity
     r.fail(&at.table, "cloth.bending_rigidity",
-           "bend_model = \"hinge\" needs bending_rigidity = B (N m), > 0");
-  c.bending_rigidity = r.number(at, "bending_rigidity", 0.0, kPositive);
+           "bend_model = \"hinge\" needs bending_rigidity = B (N m), > 0, or a fabric");
+  c.bending_rigidity = r.number(at, "bending_rigidity", c.bending_rigidity, kPositive);
   // the hinge model replaces the bend springs
   const toml::table* st = r.table(at, "stiffness");
   if (const toml::node* bend = st ? st->get("bend") : nullptr; bend && c.k_bend > 0)
@@ -94,9 +96,40 @@ void read_bend_model(const Reader& r, const At& at, cloth::ClothParams& c) {
   c.k_bend = 0.0;
 }
 
-/// cloth.stiffness, cloth.damping and cloth.air_drag; a mesh has no shear springs.
-void read_material(const Reader& r, const At& at, bool mesh, cloth::ClothParams& c) {
-  // a stiffness table names the spring kinds there are; an omitted kind has no springs
+/// cloth.stiffness's structural springs: structural (along u and v alike), or a grid's
+/// structural_u and structural_v (a direction left out has none), never both forms. With a
+/// fabric, structural left out keeps the fabric's.
+void read_structural(const Reader& r, const At& sat, bool mesh, bool fabric,
+                     cloth::ClothParams& c) {
+  const toml::table& st = sat.table;
+  const toml::node* u = st.get("structural_u");
+  const toml::node* v = st.get("structural_v");
+  const toml::node* per = u ? u : v;
+  if (per && mesh)
+    r.fail(per, u ? "cloth.stiffness.structural_u" : "cloth.stiffness.structural_v",
+           "a mesh's structural springs lie along its edges, in no grid direction, so a mesh "
+           "stays isotropic: give structural alone");
+  if (!per) {
+    c.k_structural = r.number(sat, "structural", fabric ? c.k_structural : 0.0, kNonNegative);
+    c.k_structural_v = -1.0;
+    return;
+  }
+  // the values first, so that a value out of range is named as such
+  const double ku = r.number(sat, "structural_u", 0.0, kNonNegative);
+  const double kv = r.number(sat, "structural_v", 0.0, kNonNegative);
+  if (st.get("structural"))
+    r.fail(per, u ? "cloth.stiffness.structural_u" : "cloth.stiffness.structural_v",
+           "expected either structural (u and v alike) or structural_u and structural_v, got "
+           "both forms");
+  c.k_structural = ku;
+  c.k_structural_v = kv;
+}
+
+/// cloth.stiffness, cloth.damping and cloth.air_drag; a mesh has no shear springs. With a
+/// fabric, c holds its springs and each key given overrides one.
+void read_material(const Reader& r, const At& at, bool mesh, bool fabric, cloth::ClothParams& c) {
+  // a stiffness table names the spring kinds there are; an omitted kind has no springs (with a
+  // fabric: keeps the fabric's)
   if (const toml::table* st = r.table(at, "stiffness")) {
     const At sat{*st, "cloth.stiffness"};
     r.check_keys(sat, kStiffnessKeys);
@@ -104,9 +137,9 @@ void read_material(const Reader& r, const At& at, bool mesh, cloth::ClothParams&
       r.fail(st->get("shear"), "cloth.stiffness.shear",
              "a mesh has no shear springs: one structural spring per edge and one bend spring "
              "per interior edge; leave shear out");
-    c.k_structural = r.number(sat, "structural", 0.0, kNonNegative);
-    c.k_shear = r.number(sat, "shear", 0.0, kNonNegative);
-    c.k_bend = r.number(sat, "bend", 0.0, kNonNegative);
+    read_structural(r, sat, mesh, fabric, c);
+    c.k_shear = r.number(sat, "shear", fabric && !mesh ? c.k_shear : 0.0, kNonNegative);
+    c.k_bend = r.number(sat, "bend", fabric ? c.k_bend : 0.0, kNonNegative);
   } else if (mesh) {
     c.k_shear = 0.0;
   }
@@ -116,6 +149,56 @@ void read_material(const Reader& r, const At& at, bool mesh, cloth::ClothParams&
   c.self_collision = r.boolean(at, "self_collision", c.self_collision);
   c.thickness = r.number(at, "thickness", c.thickness, kLength);
   c.self_friction = r.number(at, "self_friction", c.self_friction, kNonNegative);
+}
+
+/// The fabric cloth.fabric names in the shipped table, or null without the key.
+const Fabric* read_fabric(const Reader& r, const At& at) {
+  if (!at.table.get("fabric")) return nullptr;
+  const std::string name = r.string(at, "fabric", "");
+  const FabricTable& table = shipped_fabrics();
+  if (const Fabric* f = table.find(name)) return f;
+  r.fail(at.table.get("fabric"), "cloth.fabric",
+         "unknown fabric " + toml_string(name) + suggest(name, table.names()) + " (" +
+             table.source + ")");
+}
+
+/// Mass per area (kg/m^2) of the cloth as read: areal_density, or total_mass or particle_mass
+/// over the area they cover.
+double areal_density_of(const cloth::Scene& scene) {
+  const cloth::ClothParams& c = scene.cloth;
+  if (c.areal_density > 0) return c.areal_density;
+  if (scene.mesh) {
+    const cloth::VectorX m = cloth::lumped_masses(*scene.mesh, 1.0);
+    return c.total_mass / m.sum();
+  }
+  const double hu = c.nu > 1 ? c.size_u / (c.nu - 1) : c.size_v / std::max(c.nv - 1, 1);
+  const double hv = c.nv > 1 ? c.size_v / (c.nv - 1) : hu;
+  if (c.total_mass > 0) return c.total_mass / (c.size_u * c.size_v);
+  return c.particle_mass / (hu * hv);
+}
+
+/// The fabric's springs and bending on the cloth as read so far (its shape and mass); the
+/// [cloth] keys read after this override them. Stretch springs the fabric has no data for are
+/// the stiffness table's (or the defaults).
+FabricSprings apply_fabric(const Reader& r, const At& at, const Fabric& f, Scenario& s) {
+  cloth::ClothParams& c = s.scene.cloth;
+  if (const toml::table* st = r.table(at, "stiffness")) {
+    const At sat{*st, "cloth.stiffness"};
+    c.k_structural = r.number(sat, "structural", c.k_structural, kNonNegative);
+    c.k_shear = r.number(sat, "shear", c.k_shear, kNonNegative);
+  }
+  const bool hinge = r.choice(at, "bend_model", "springs", kBendModels) == "hinge";
+  const double rho = areal_density_of(s.scene);
+  const FabricSprings fs = s.scene.mesh
+                               ? mesh_fabric_springs(f, *s.scene.mesh, c.k_structural, rho, hinge)
+                               : grid_fabric_springs(f, c, rho, hinge);
+  c.k_structural = fs.k_structural;
+  c.k_shear = s.scene.mesh ? 0.0 : fs.k_shear;
+  c.k_bend = fs.k_bend;
+  c.bending_rigidity = fs.bending_rigidity;
+  if (!fs.warning.empty())
+    s.warnings.push_back("cloth.fabric = " + toml_string(f.name) + ": " + fs.warning);
+  return fs;
 }
 
 /// [cloth.generate]: the shape and its sizes, each checked where it is read.
@@ -219,8 +302,16 @@ void read_cloth(const Reader& r, const toml::table* table, Scenario& s) {
   } else {
     read_grid_shape(r, at, c);
   }
+  // a fabric's density unless the mass is given; its springs at the resolution and mass read
+  const Fabric* fabric = read_fabric(r, at);
+  const toml::table& t = *table;
+  if (fabric && !t.get("areal_density") && !t.get("total_mass") && !t.get("particle_mass"))
+    c.areal_density = fabric->areal_density;
   read_mass(r, at, s.scene.mesh != nullptr, c);
-  read_material(r, at, s.scene.mesh != nullptr, c);
+  const FabricSprings fs = fabric ? apply_fabric(r, at, *fabric, s) : FabricSprings{};
+  read_material(r, at, s.scene.mesh != nullptr, fabric != nullptr, c);
+  // the preset's damping follows the structural springs finally chosen
+  if (fabric && !t.get("damping")) c.damping = fabric_damping(c.k_structural, fs.particle_mass);
 }
 
 }  // namespace clothbench

@@ -51,6 +51,15 @@ std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
                                   "\"springs\" and cloth.stiffness.bend",
                               {"cloth.bend_model", "cloth.bending_rigidity"},
                               {}};
+  // the other engines read one structural stiffness; a calibration would be needed to make
+  // theirs differ by direction, so none is made up here
+  if (spec.kind != EngineKind::custom && scene.cloth.anisotropic() && !scene.mesh)
+    return reference::Refusal{std::string(engine_kind_name(spec.kind)) +
+                                  " has one structural stiffness for both grid directions and "
+                                  "cannot model cloth.stiffness structural_u != structural_v: "
+                                  "run it on a copy of the scene with structural alone",
+                              {"cloth.stiffness.structural_u", "cloth.stiffness.structural_v"},
+                              {}};
   switch (spec.kind) {
     case EngineKind::custom: {
       // xpbd and projective work on springs alone: a constraint per spring, a spring per

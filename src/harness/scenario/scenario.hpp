@@ -74,10 +74,14 @@ struct MeshSource {
 /// kind "cantilever" (ASTM D1388 option A, fixed overhang): the strip lies along +x and every
 /// particle with rest x <= edge is held on all axes by the scene's own [[constraint]]s (the
 /// loader checks it and adds none). kind "drape" (the Cusick test, BS 5058): a specimen hung
-/// from a held support ([[constraint]] within or disk). The metrics go to tests.csv.
+/// from a held support ([[constraint]] within or disk). kind "strip-tensile" (ISO 13934-1
+/// strip): a grid held on all axes at one end (the clamp) and pulled along direction by its one
+/// handle at the other; tensile.csv gets the force-strain curve. The metrics go to tests.csv.
 struct TestSpec {
-  std::string kind;   // "" (no test), "cantilever" or "drape"
-  double edge = 0.0;  // m, cantilever: the platform's edge along x
+  std::string kind;             // "" (no test), "cantilever", "drape" or "strip-tensile"
+  double edge = 0.0;            // m, cantilever: the platform's edge along x
+  std::string direction = "u";  // strip-tensile: the grid axis pulled along, "u" or "v"
+  double fit_strain = 0.01;     // 1, strip-tensile: the strain range (0, fit_strain] of the slope
 };
 
 /// Everything a run needs; every key of the scenario file has a field here, and so has the

@@ -32,17 +32,18 @@ const Keys kTopKeys = {"name",
                        "cylinder",
                        "handle",
                        "test"};
-const Keys kClothKeys = {"particles",       "size",       "center",        "plane",
-                         "particle_mass",   "total_mass", "areal_density", "stiffness",
-                         "damping",         "air_drag",   "mesh",          "generate",
-                         "self_collision",  "thickness",  "self_friction", "bend_model",
-                         "bending_rigidity"};
+const Keys kClothKeys = {"particles",        "size",       "center",        "plane",
+                         "particle_mass",    "total_mass", "areal_density", "stiffness",
+                         "damping",          "air_drag",   "mesh",          "generate",
+                         "self_collision",   "thickness",  "self_friction", "bend_model",
+                         "bending_rigidity", "fabric"};
 const Keys kBendModels = {"springs", "hinge"};
 const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size", "length",
                             "edge_length", "seed",   "center",       "plane"};
-const Keys kTestKeys = {"kind", "edge"};
+const Keys kTestKeys = {"kind", "edge", "direction", "fit_strain"};
+const Keys kTensileDirections = {"u", "v"};
 const Keys kTestKinds = {"cantilever", "drape", "strip-tensile", "bias-extension"};
-const Keys kStiffnessKeys = {"structural", "shear", "bend"};
+const Keys kStiffnessKeys = {"structural", "shear", "bend", "structural_u", "structural_v"};
 const Keys kConstraintKeys = {"select", "hold", "center", "radius", "list", "name", "min", "max"};
 const Keys kSphereKeys = {"center",   "radius", "restitution", "friction",
                           "velocity", "margin", "path"};

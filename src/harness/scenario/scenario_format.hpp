@@ -40,7 +40,8 @@ extern const Keys kEngineCommonKeys;  // keys every [[engine]] may have
 // the values of the enumerated keys: each spelled once, beside its enum (cloth's integrators
 // and solver options, the Bullet options, the engine kinds) or here (planes, contact modes,
 // selections), and listed from there
-extern const Keys kTestKinds;  // [test] kind, the ones not yet measured included
+extern const Keys kTensileDirections;  // [test] direction of a strip-tensile test
+extern const Keys kTestKinds;          // [test] kind, the ones not yet measured included
 extern const Keys kPlanes;
 extern const Keys kSelections;
 extern const Keys kShapes;  // [cloth.generate] shape

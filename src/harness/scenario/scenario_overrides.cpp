@@ -159,12 +159,14 @@ void set_cloth_key(toml::table& root, const std::vector<std::string>& part, toml
     if (!contains(kStiffnessKeys, part[2]))
       throw unknown_key(where, part[2], kStiffnessKeys, "cloth.stiffness");
     if (part.size() > 3) throw single_value(where, part, 3);
-    // a missing table means the default stiffnesses; change just the one named
+    // a missing table means the default stiffnesses (a fabric's: its own); change just the one
     const cloth::ClothParams d;
-    toml::table& st = child_table(cloth, "stiffness", where,
-                                  "{ structural = " + toml_double(d.k_structural) +
-                                      ", shear = " + toml_double(d.k_shear) +
-                                      ", bend = " + toml_double(d.k_bend) + " }");
+    toml::table& st =
+        child_table(cloth, "stiffness", where,
+                    cloth.contains("fabric") ? std::string("{}")
+                                             : "{ structural = " + toml_double(d.k_structural) +
+                                                   ", shear = " + toml_double(d.k_shear) +
+                                                   ", bend = " + toml_double(d.k_bend) + " }");
     st.insert_or_assign(part[2], std::move(value));
     return;
   }

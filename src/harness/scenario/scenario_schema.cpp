@@ -155,12 +155,20 @@ void test_keys(std::vector<ScenarioKey>& out) {
   const TestSpec t;
   Rows r(out, "test");
   r.choice("kind", "none (required)", kTestKinds,
-           "the test: \"cantilever\" (ASTM D1388 option A, fixed overhang) or \"drape\" (the "
+           "the test: \"cantilever\" (ASTM D1388 option A, fixed overhang), \"drape\" (the "
            "Cusick test, BS 5058: a specimen hung from a support held by a [[constraint]] within "
-           "or disk); the others are refused so far");
+           "or disk) or \"strip-tensile\" (ISO 13934-1 strip); \"bias-extension\" is refused "
+           "so far");
   r.number("edge", "m", t.edge, kAnyNumber,
            "cantilever: the platform's edge; the strip lies along +x and every particle at rest "
            "x <= edge must be held on x, y and z by a [[constraint]]");
+  r.choice("direction", quoted(t.direction), kTensileDirections,
+           "strip-tensile: the grid axis pulled along, u (the grid's first index, x: warp) or v "
+           "(its second: z, or y when plane = \"xy\"; weft); the particles held on x, y and z "
+           "are the clamp, the one [[handle]] at the far end along it pulls");
+  r.number("fit_strain", "1", t.fit_strain, kPositive,
+           "strip-tensile: tensile_stiffness is the least-squares slope of force per width "
+           "against strain over the frames with 0 < strain <= fit_strain");
 }
 
 void generate_keys(std::vector<ScenarioKey>& out) {
@@ -216,6 +224,10 @@ void cloth_keys(std::vector<ScenarioKey>& out) {
   r.other("bending_rigidity", "number", "N m", "none", "> 0; only with bend_model = \"hinge\"",
           "the hinge model's bending rigidity B per unit width: a sheet bent to curvature k stores "
           "B k^2 / 2 per unit area");
+  r.other("fabric", "string", "", "none", "a name in reference/fabrics/fabrics.toml",
+          "a fabric preset: sets areal_density, the stiffness table, bending_rigidity (hinge) "
+          "and damping from published measurements at the cloth's resolution "
+          "(docs/fabrics.md); keys given here override the preset's, one by one");
   r.number("damping", "N s/m", c.damping, kNonNegative, "damper along every spring");
   r.number("air_drag", "N s/m", c.air_drag, kNonNegative,
            "viscous drag of every particle against the wind");
@@ -230,6 +242,12 @@ void cloth_keys(std::vector<ScenarioKey>& out) {
   st.number("structural", "N/m", 0.0, kNonNegative,
             "springs between grid neighbours along u and v, or along a mesh's edges (0 when the "
             "table leaves it out)");
+  st.number("structural_u", "N/m", 0.0, kNonNegative,
+            "a grid's structural springs along u (its first index i: x, the warp of a woven "
+            "fabric), instead of structural; a mesh refuses it (meshes stay isotropic)");
+  st.number("structural_v", "N/m", 0.0, kNonNegative,
+            "a grid's structural springs along v (its second index j: z, or y when plane = "
+            "\"xy\"; the weft), with structural_u; a direction left out has no springs");
   st.number("shear", "N/m", 0.0, kNonNegative,
             "springs along the grid's diagonals; a mesh has none (an error there)");
   st.number("bend", "N/m", 0.0, kNonNegative,

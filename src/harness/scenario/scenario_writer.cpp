@@ -152,7 +152,11 @@ void write_cloth(std::ostream& o, const Scenario& s) {
     o << "total_mass = " << d(c.total_mass) << "  # kg\n";
   else
     o << "particle_mass = " << d(c.particle_mass) << "  # kg\n";
-  o << "stiffness = { structural = " << d(c.k_structural);
+  if (c.anisotropic())
+    o << "stiffness = { structural_u = " << d(c.k_structural)
+      << ", structural_v = " << d(c.structural_v());
+  else
+    o << "stiffness = { structural = " << d(c.k_structural);
   if (!s.mesh.any()) o << ", shear = " << d(c.k_shear);
   o << ", bend = " << d(c.k_bend) << " }  # N/m\n";
   if (c.bend_model == cloth::BendModel::hinge)
@@ -208,6 +212,9 @@ std::string scenario_to_toml(const Scenario& s) {
   write_colliders(o, s);
   if (!s.test.kind.empty()) o << "\n[test]\nkind = " << toml_string(s.test.kind) << "\n";
   if (s.test.kind == "cantilever") o << "edge = " << d(s.test.edge) << "  # m\n";
+  if (s.test.kind == "strip-tensile")
+    o << "direction = " << toml_string(s.test.direction)
+      << "\nfit_strain = " << d(s.test.fit_strain) << "\n";
 
   for (const EngineSpec& e : s.engines) {
     o << "\n[[engine]]\n"

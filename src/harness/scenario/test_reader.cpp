@@ -1,5 +1,8 @@
 #include "harness/scenario/test_reader.hpp"
 
+#include <algorithm>
+#include <cmath>
+
 #include "cloth/model/model.hpp"
 #include "harness/scenario/scenario_format.hpp"
 
@@ -51,9 +54,10 @@ void check_cantilever(const Reader& r, const toml::table& t, const toml::table& 
 /// weight.
 void check_drape(const Reader& r, const toml::table& t, const toml::table& root,
                  const Scenario& s) {
-  if (t.get("edge"))
-    r.fail(t.get("edge"), "test.edge",
-           "expected no edge with a drape test (edge is the cantilever's)");
+  for (const char* key : {"edge", "direction", "fit_strain"})
+    if (t.get(key))
+      r.fail(t.get(key), std::string("test.") + key,
+             std::string("expected no ") + key + " with a drape test (it is another test's key)");
   bool disk = false;
   for (const ConstraintSpec& c : s.constraints)
     disk = disk || c.select == "disk" || c.select == "within";
@@ -66,6 +70,58 @@ void check_drape(const Reader& r, const toml::table& t, const toml::table& root,
            "expected a non-zero gravity with a drape test (the specimen hangs under its weight)");
 }
 
+/// The extension axis of a grid's direction "u" (x) or "v" (z, or y when plane = "xy").
+cloth::Vector3 tensile_axis(const cloth::ClothParams& c, const std::string& direction) {
+  if (direction == "u") return cloth::Vector3::UnitX();
+  return c.plane == cloth::Plane::xy ? cloth::Vector3::UnitY() : cloth::Vector3::UnitZ();
+}
+
+/// True when the handle's motion only ever moves it forward along axis.
+bool pulls_along(const cloth::Motion& m, const cloth::Vector3& axis) {
+  std::vector<cloth::Vector3> d;
+  if (m.path.empty()) d.push_back(m.velocity);
+  for (const auto& row : m.path) d.emplace_back(row[1], row[2], row[3]);
+  bool forward = false;
+  for (const cloth::Vector3& v : d) {
+    const double along = v.dot(axis);
+    if (along < 0 || (v - along * axis).norm() > 1e-12 * v.norm()) return false;
+    forward = forward || along > 0;
+  }
+  return forward;
+}
+
+/// The strip-tensile's checks: a grid, a clamp held on every axis, one handle beyond it that
+/// pulls along the direction.
+void check_strip_tensile(const Reader& r, const toml::table& t, const toml::table& root,
+                         const Scenario& s) {
+  const toml::node* at = t.get("direction") ? t.get("direction") : &t;
+  if (s.scene.mesh)
+    r.fail(t.get("kind"), "test.kind",
+           "the strip-tensile test is not yet measured on a mesh: give the strip as a grid "
+           "(particles, size)");
+  if (s.scene.handles.size() != 1)
+    r.fail(root.get("handle") ? root.get("handle") : &t, "handle",
+           "expected one [[handle]] with a strip-tensile test (the moving clamp), got " +
+               std::to_string(s.scene.handles.size()));
+  const cloth::Vector3 axis = tensile_axis(s.scene.cloth, s.test.direction);
+  if (!pulls_along(s.scene.handles[0].motion, axis))
+    r.fail(root.get("handle"), "handle.path",
+           "expected the strip-tensile handle to move forward along the test's direction " +
+               toml_string(s.test.direction) + " alone (a velocity or path parallel to it)");
+  // the clamp's last particle before the handle's first, along the axis
+  const cloth::Matrix3X x0 = cloth::rest_positions(s.scene);
+  double clamp = -HUGE_VAL, handle = HUGE_VAL;
+  for (Eigen::Index p = 0; p < x0.cols(); ++p)
+    if (size_t(p) < s.scene.held.size() && s.scene.held[size_t(p)] == cloth::kHoldAll)
+      clamp = std::max(clamp, x0.col(p).dot(axis));
+  for (int p : s.scene.handles[0].particles) handle = std::min(handle, x0.col(p).dot(axis));
+  if (!(clamp < handle))
+    r.fail(at, "test.direction",
+           "expected particles held on x, y and z by a [[constraint]] (the fixed clamp), all "
+           "of them before the handle's particles along direction " +
+               toml_string(s.test.direction));
+}
+
 }  // namespace
 
 void read_test(const Reader& r, const toml::table& root, Scenario& s) {
@@ -76,12 +132,18 @@ void read_test(const Reader& r, const toml::table& root, Scenario& s) {
   if (!t->get("kind")) r.fail(t, "test.kind", "expected a kind, got none");
   s.test.kind = r.choice(at, "kind", "", kTestKinds);
   if (s.test.kind == "drape") return check_drape(r, *t, root, s);
-  if (s.test.kind != "cantilever")
+  if (s.test.kind != "cantilever" && s.test.kind != "strip-tensile")
     r.fail(t->get("kind"), "test.kind",
            "the " + toml_string(s.test.kind) +
-               " test is not yet measured by the harness (\"cantilever\" and \"drape\" are)");
+               " test is not yet measured by the harness (\"cantilever\", \"drape\" and "
+               "\"strip-tensile\" are)");
   s.test.edge = r.number(at, "edge", s.test.edge, kAnyNumber);
-  check_cantilever(r, *t, root, s);
+  s.test.direction = r.choice(at, "direction", s.test.direction, kTensileDirections);
+  s.test.fit_strain = r.number(at, "fit_strain", s.test.fit_strain, kPositive);
+  if (s.test.kind == "cantilever")
+    check_cantilever(r, *t, root, s);
+  else
+    check_strip_tensile(r, *t, root, s);
 }
 
 }  // namespace clothbench

@@ -115,7 +115,7 @@ double measure(FitJob& job, size_t k, const std::string& engine, const std::stri
   sc.reference = engine;
   RunOptions ro;
   ro.progress = false;
-  ro.keep_positions = false;
+  ro.keep_positions = sc.test.kind == "strip-tensile";  // its curve reads every frame
   const RunResult r = run_scenario(sc, ro);
   return engine_metric(r, r.runs.front(), metric).value_or(NAN);
 }
