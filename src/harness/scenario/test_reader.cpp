@@ -115,7 +115,7 @@ void check_strip_tensile(const Reader& r, const toml::table& t, const toml::tabl
     if (size_t(p) < s.scene.held.size() && s.scene.held[size_t(p)] == cloth::kHoldAll)
       clamp = std::max(clamp, x0.col(p).dot(axis));
   for (int p : s.scene.handles[0].particles) handle = std::min(handle, x0.col(p).dot(axis));
-  if (!(clamp < handle))
+  if (!std::isfinite(clamp) || !(clamp < handle))
     r.fail(at, "test.direction",
            "expected particles held on x, y and z by a [[constraint]] (the fixed clamp), all "
            "of them before the handle's particles along direction " +
