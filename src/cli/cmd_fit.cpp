@@ -88,6 +88,8 @@ int execute_fit(FitArgs a) {
   o.progress = !a.quiet;
   for (const std::string& t : a.target_texts) o.targets.push_back(parse_target(t));
   for (const std::string& r : a.range_texts) o.ranges.push_back(parse_range(r));
+  if (o.targets.empty() && o.fabric.empty())
+    throw UserError("fit: expected --target METRIC=VALUE or --fabric NAME");
   if (o.ranges.size() > o.targets.size())
     throw UserError("--range: " + std::to_string(o.ranges.size()) + " ranges for " +
                     std::to_string(o.targets.size()) +
@@ -117,8 +119,11 @@ Command add_fit_command(CLI::App& app) {
   fit->add_option("scenarios", o.scenarios, "scenario files (TOML)")->required();
   fit->add_option("--target,-t", a->target_texts,
                   "METRIC=VALUE, e.g. bending_length=0.03 (repeatable; m for lengths)")
-      ->required()
       ->allow_extra_args(false);
+  fit->add_option("--fabric", o.fabric,
+                  "a preset of reference/fabrics/fabrics.toml: set as cloth.fabric on every\n"
+                  "scenario, and its measured values the targets that --target leaves out\n"
+                  "(bending_length from its warp rigidity, tensile_stiffness, drape_coefficient)");
   fit->add_option("--range,-r", a->range_texts,
                   "KEY=LO:HI: the k-th names the k-th target's parameter (a --set key; engine.KEY\n"
                   "for the engine's own) and bounds it; default: the metric's usual parameter\n"

@@ -1,11 +1,16 @@
 // The one-parameter solver of clothbench fit on analytic monotone functions: it brackets and
 // converges from far away, in either direction, says when a target is out of reach, and
-// treats a run without a metric (a blow-up) as the end of the range.
+// treats a run without a metric (a blow-up) as the end of the range. And the targets a
+// fabric preset gives each scenario (--fabric).
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <string>
 
+#include "harness/scenario/fabric_preset.hpp"
+#include "harness/scenario/scenario_loader.hpp"
 #include "harness/sweeps/fit_solver.hpp"
+#include "harness/sweeps/fit_sweep.hpp"
 
 using namespace clothbench;
 
@@ -108,4 +113,36 @@ TEST_CASE("the fit solver stops at its run budget", "[fit]") {
   REQUIRE(r.samples.size() == 3);
   // the best of the three: the last, furthest up
   REQUIRE(r.parameter == r.samples.back().parameter);
+}
+
+TEST_CASE("a fabric's targets are the metrics its measurements give", "[fit]") {
+  Fabric f;
+  f.name = "test";
+  f.areal_density = 0.25;
+  f.bending_warp = 2e-5;
+  f.bending_weft = 1e-5;
+  f.tensile_warp = 3000.0;
+  f.tensile_weft = 1500.0;
+  f.drape_coefficient = 0.55;
+  const std::string dir = CLOTHBENCH_SOURCE_DIR "/scenarios/";
+  // the cantilever: its bending length is the one whose heavy strip has the warp's rigidity,
+  // B = rho_A g c^3 (the cantilever's flexural_rigidity)
+  const auto cantilever = fabric_targets(f, load_scenario(dir + "fabric/cantilever.toml"));
+  REQUIRE(cantilever.size() == 1);
+  REQUIRE(cantilever[0].metric == "bending_length");
+  REQUIRE(f.areal_density * kStandardGravity * std::pow(cantilever[0].value, 3) ==
+          Approx(f.bending_warp).epsilon(1e-12));
+  // the strips: the stiffness along the direction pulled
+  const auto weft = fabric_targets(f, load_scenario(dir + "fabric/strip-tensile-weft.toml"));
+  REQUIRE(weft.size() == 1);
+  REQUIRE(weft[0].metric == "tensile_stiffness");
+  REQUIRE(weft[0].value == 1500.0);
+  // the Cusick scene: the drape coefficient as measured
+  const auto drape = fabric_targets(f, load_scenario(dir + "cusick_drape.toml"));
+  REQUIRE(drape.size() == 1);
+  REQUIRE(drape[0].metric == "drape_coefficient");
+  REQUIRE(drape[0].value == 0.55);
+  // a fabric without a drape measurement gives the Cusick scene no target
+  f.drape_coefficient.reset();
+  REQUIRE(fabric_targets(f, load_scenario(dir + "cusick_drape.toml")).empty());
 }

@@ -38,6 +38,9 @@ def make_outputs(clothbench, source, work):
     tensile = os.path.join(source, "scenarios", "fabric", "strip-tensile-warp.toml")
     run(clothbench, "run", tensile, "--set", "duration=0.05", "-o", f"{work}/tensile",
         "-e", "custom-symplectic-euler")
+    # a fit writes fit.csv
+    run(clothbench, "fit", cantilever, "--set", "duration=0.05", "-o", f"{work}/fit",
+        "-e", "custom-implicit-euler", "--target", "bending_length=0.03", "--max-runs", "2")
     run(clothbench, "stability", chain, "--set", "duration=0.05", "-o", f"{work}/stability",
         "-e", "custom-rk4", "-i", "rk4", "--rel-tol", "0.2")
     varied = ["cloth.damping"]

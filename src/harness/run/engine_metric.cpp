@@ -11,12 +11,21 @@ namespace clothbench {
 
 namespace {
 
+/// The model run's engine was measured in: its own scene's when its overrides give one (its
+/// springs and masses), kept in own; else the result's.
+const cloth::Model& engine_model(const RunResult& result, const EngineRun& run, cloth::Model& own) {
+  if (!run.spec.scene) return result.model;
+  own = cloth::build_model(*run.spec.scene);
+  return own;
+}
+
 /// The [test]'s metrics of one engine's final state x (a settled one, or the rest shape for
 /// the names alone).
 std::vector<TestMetric> test_rows(const RunResult& result, const EngineRun& run,
                                   const cloth::Matrix3X& x) {
   const Scenario& sc = result.scenario;
-  const cloth::Model& model = result.model;
+  cloth::Model own;
+  const cloth::Model& model = engine_model(result, run, own);
   if (sc.test.kind == "drape") {
     // the support's axis through the held particles' centroid
     cloth::Vector3 centre = cloth::Vector3::Zero();
@@ -50,13 +59,16 @@ std::vector<TensilePoint> strip_tensile_curve(const RunResult& result, const Eng
   const cloth::Handle& handle = sc.scene.handles.at(0);
   const TensileSetup setup = tensile_setup(result.model.x0, sc.scene.held, handle.particles, axis,
                                            along_u ? c.size_v : c.size_u);
+  // the springs the engine ran: its own with overrides
+  cloth::Model own;
+  const cloth::Model& model = engine_model(result, run, own);
   std::vector<double> t;
   std::vector<cloth::Matrix3X> x;
   for (size_t k = 0; k < run.frames.size() && run.frames[k].stable; ++k) {
     t.push_back(run.frames[k].t);
     x.push_back(run.positions[k]);
   }
-  return tensile_curve(result.model.springs, result.model.x0, setup, handle.motion, t, x);
+  return tensile_curve(model.springs, model.x0, setup, handle.motion, t, x);
 }
 
 std::vector<TestMetric> test_metrics(const RunResult& result, const EngineRun& run) {

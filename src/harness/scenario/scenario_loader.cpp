@@ -17,7 +17,6 @@
 #include "cloth/model/model.hpp"
 #include "harness/scenario/cloth_reader.hpp"
 #include "harness/scenario/embedded_seed_scenario.hpp"
-#include "harness/scenario/engine_overrides.hpp"
 #include "harness/scenario/engine_refusal.hpp"
 #include "harness/scenario/scenario_overrides.hpp"
 #include "harness/scenario/selection_reader.hpp"

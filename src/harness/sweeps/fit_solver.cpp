@@ -53,8 +53,8 @@ class Solver {
   /// Runs at u (within the range); stop is set when it converged or the budget is spent.
   Point run(double u) {
     u = std::clamp(u, m_lo, m_hi);
-    const double m = m_metric(std::exp(u));
-    m_result.samples.push_back({std::exp(u), m});
+    const double m = m_metric(parameter(u));
+    m_result.samples.push_back({parameter(u), m});
     Point p{u, miss(m)};
     if (p.ok() && std::abs(m - m_o.target) <= m_tol)
       m_stop = FitStatus::converged;
@@ -62,6 +62,13 @@ class Solver {
       m_stop = FitStatus::budget;
     return p;
   }
+  /// The parameter at u: exactly the start or a given bound there (exp(log(1000)) is not 1000).
+  double parameter(double u) const {
+    for (const double p : {m_o.start, m_o.lo, m_o.hi})
+      if (p > 0.0 && std::isfinite(p) && u == std::log(p)) return p;
+    return std::exp(u);
+  }
+
   /// How far m misses the target: in log metric for a positive target (power laws become
   /// straight lines in log-log, where secant steps land at once), else the difference.
   double miss(double m) const {

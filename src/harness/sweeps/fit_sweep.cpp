@@ -20,6 +20,7 @@
 #include "harness/io/user_error.hpp"
 #include "harness/run/engine_metric.hpp"
 #include "harness/run/runner.hpp"
+#include "harness/scenario/fabric_preset.hpp"
 #include "harness/scenario/scenario_loader.hpp"
 #include "harness/scenario/scenario_overrides.hpp"
 
@@ -48,6 +49,14 @@ std::vector<std::string> parameter_sets(const std::string& parameter, const std:
   return sets;
 }
 
+/// o with --fabric's preset set on every scenario (cloth.fabric), as the runs and fitted files
+/// have it.
+FitOptions with_fabric(const FitOptions& o) {
+  FitOptions out = o;
+  if (!o.fabric.empty()) out.overrides.insert(out.overrides.begin(), "cloth.fabric=" + o.fabric);
+  return out;
+}
+
 /// The value a parameter has in s for engine e, when the harness can say it.
 std::optional<double> current_value(const std::string& parameter, const EngineSpec& e,
                                     const Scenario& s) {
@@ -56,6 +65,8 @@ std::optional<double> current_value(const std::string& parameter, const EngineSp
   if (k == "cloth.stiffness.bend") return c.k_bend;
   if (k == "cloth.stiffness.structural") return c.k_structural;
   if (k == "cloth.stiffness.shear") return c.k_shear;
+  if (k == "cloth.stiffness.structural_u") return c.k_structural;
+  if (k == "cloth.stiffness.structural_v") return c.structural_v();
   if (k == "cloth.bending_rigidity") return c.bending_rigidity;
   if (k == "cloth.damping") return c.damping;
   if (k == "engine.klst") return e.bullet.klst;
@@ -71,6 +82,22 @@ const EngineSpec* find_engine(const Scenario& s, const std::string& name) {
 
 }  // namespace
 
+std::vector<FitTarget> fabric_targets(const Fabric& f, const Scenario& s) {
+  std::vector<FitTarget> out;
+  if (s.test.kind == "cantilever" && f.bending_warp > 0.0)
+    out.push_back(
+        {"bending_length", std::cbrt(f.bending_warp / (f.areal_density * kStandardGravity))});
+  if (s.test.kind == "strip-tensile" && f.tensile_warp)
+    out.push_back({"tensile_stiffness", s.test.direction == "u"
+                                            ? *f.tensile_warp
+                                            : f.tensile_weft.value_or(*f.tensile_warp)});
+  const auto names = metric_names(s);
+  if (f.drape_coefficient &&
+      std::find(names.begin(), names.end(), "drape_coefficient") != names.end())
+    out.push_back({"drape_coefficient", *f.drape_coefficient});
+  return out;
+}
+
 std::string default_parameter(const std::string& metric, const EngineSpec& e, const Scenario& s) {
   const cloth::ClothParams& c = engine_scene(s, e).cloth;
   const bool klst = e.kind == EngineKind::bullet_softbody &&
@@ -80,6 +107,10 @@ std::string default_parameter(const std::string& metric, const EngineSpec& e, co
       metric == "flexural_rigidity" || metric == "drape_coefficient")
     return c.bend_model == cloth::BendModel::hinge ? "cloth.bending_rigidity"
                                                    : "cloth.stiffness.bend";
+  // a strip of a grid with per-direction springs: the ones along its direction
+  if (metric == "tensile_stiffness" && c.anisotropic())
+    return s.test.direction == "v" ? "cloth.stiffness.structural_v"
+                                   : "cloth.stiffness.structural_u";
   if (metric == "tensile_stiffness")
     return e.kind == EngineKind::bullet_deformable && c.k_shear > 0
                ? "cloth.stiffness.structural+cloth.stiffness.shear"
@@ -92,8 +123,9 @@ namespace {
 
 /// One fit's context: the scenarios as loaded (every engine) and what has been fitted so far.
 struct FitJob {
-  const FitOptions& o;
+  FitOptions o;  // with_fabric's
   std::vector<Scenario> scenarios;
+  std::vector<FitTarget> targets;       // the options' and the fabric's
   std::vector<size_t> target_scenario;  // per target, the scenario giving its metric
   FitOutcome outcome;
 };
@@ -124,8 +156,8 @@ double measure(FitJob& job, size_t k, const std::string& engine, const std::stri
 FitSolverOptions solver_options(FitJob& job, size_t t, const EngineSpec& e, const FitRow& row) {
   const FitOptions& o = job.o;
   FitSolverOptions so;
-  so.target = o.targets[t].value;
-  so.relative = o.targets[t].metric != "drape_coefficient";
+  so.target = job.targets[t].value;
+  so.relative = job.targets[t].metric != "drape_coefficient";
   so.tolerance = so.relative ? o.tolerance : kDrapeTolerance;
   so.max_runs = o.max_runs;
   if (t < o.ranges.size()) {
@@ -165,7 +197,7 @@ void show_run(const FitJob& job, const FitRow& row, int n, double p, double m) {
 
 /// Fits target t on engine; the row says how.
 FitRow fit_one(FitJob& job, const std::string& engine, size_t t) {
-  const FitTarget& target = job.o.targets[t];
+  const FitTarget& target = job.targets[t];
   FitRow row;
   row.engine = engine;
   row.metric = target.metric;
@@ -199,6 +231,25 @@ FitRow fit_one(FitJob& job, const std::string& engine, size_t t) {
   return row;
 }
 
+/// The targets with the fabric's added for the metrics the scenarios give and targets lacks.
+std::vector<FitTarget> all_targets(const FitOptions& o, const std::vector<Scenario>& scenarios) {
+  std::vector<FitTarget> targets = o.targets;
+  if (o.fabric.empty()) return targets;
+  const Fabric* f = shipped_fabrics().find(o.fabric);
+  if (!f) {
+    std::string names;
+    for (const std::string_view n : shipped_fabrics().names())
+      names += (names.empty() ? "" : ", ") + std::string(n);
+    throw UserError("--fabric " + o.fabric + ": no such fabric (the presets: " + names + ")");
+  }
+  for (const Scenario& s : scenarios)
+    for (const FitTarget& t : fabric_targets(*f, s))
+      if (std::none_of(targets.begin(), targets.end(),
+                       [&](const FitTarget& given) { return given.metric == t.metric; }))
+        targets.push_back(t);
+  return targets;
+}
+
 /// Loads the scenarios and finds the one that gives each target's metric.
 void plan(FitJob& job) {
   std::vector<std::string> files;
@@ -211,7 +262,11 @@ void plan(FitJob& job) {
                       "; the fitted files would collide in fitted/");
     files.push_back(name);
   }
-  for (const FitTarget& t : job.o.targets) {
+  job.targets = all_targets(job.o, job.scenarios);
+  if (job.targets.empty())
+    throw UserError("--fabric " + job.o.fabric +
+                    ": the fabric has no value for any metric the scenarios give");
+  for (const FitTarget& t : job.targets) {
     std::string given;
     size_t k = 0;
     for (; k < job.scenarios.size(); ++k) {
@@ -268,10 +323,10 @@ bool within(const FitOptions& o, const FitRow& row) {
 /// Fits every target on engine (see kFitPasses); appends its rows to the outcome.
 void fit_engine(FitJob& job, const std::string& engine) {
   const FitOptions& o = job.o;
-  std::vector<FitRow> rows(o.targets.size());
-  std::vector<bool> todo(o.targets.size(), true);
+  std::vector<FitRow> rows(job.targets.size());
+  std::vector<bool> todo(job.targets.size(), true);
   for (int pass = 0; pass < kFitPasses; ++pass) {
-    for (size_t t = 0; t < o.targets.size(); ++t) {
+    for (size_t t = 0; t < job.targets.size(); ++t) {
       if (!todo[t]) continue;
       const int before = rows[t].runs;
       rows[t] = fit_one(job, engine, t);
@@ -280,7 +335,7 @@ void fit_engine(FitJob& job, const std::string& engine) {
         keep_fitted(job.outcome, engine, rows[t].parameter, rows[t].value);
     }
     std::fill(todo.begin(), todo.end(), false);
-    if (o.targets.size() < 2) break;
+    if (job.targets.size() < 2) break;
     // each metric again at the engine's values now; a converged one moved off is fitted again
     bool done = true;
     for (FitRow& row : rows) {
@@ -304,7 +359,7 @@ void fit_engine(FitJob& job, const std::string& engine) {
 }  // namespace
 
 FitOutcome run_fit(const FitOptions& o) {
-  FitJob job{o, {}, {}, {}};
+  FitJob job{with_fabric(o), {}, {}, {}, {}};
   plan(job);
   for (const std::string& engine : engines_to_fit(job)) fit_engine(job, engine);
   return std::move(job.outcome);
@@ -345,8 +400,9 @@ std::string shortest_floats(const std::string& text) {
 
 }  // namespace
 
-std::string fitted_scenario_text(const std::string& path, const FitOptions& o,
+std::string fitted_scenario_text(const std::string& path, const FitOptions& given,
                                  const FitOutcome& outcome) {
+  const FitOptions o = with_fabric(given);
   const Scenario s = load_scenario(path, o.overrides);
   toml::table root = toml::parse(read_existing_text(path), path);
   for (const std::string& set : o.overrides) apply_override(root, set);

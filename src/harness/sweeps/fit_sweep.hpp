@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "harness/io/fabric_table.hpp"
 #include "harness/scenario/scenario.hpp"
 #include "harness/sweeps/fit_solver.hpp"
 
@@ -34,9 +35,12 @@ struct FitOptions {
   std::vector<FitRange> ranges;        // the k-th names (and bounds) the k-th target's parameter
   std::vector<std::string> engines;    // engine names; empty: every engine of the scenarios
   std::vector<std::string> overrides;  // --set KEY=VALUE, applied to every scenario
-  int max_runs = 12;                   // per engine and target
-  double tolerance = 0.03;             // relative; drape_coefficient: kDrapeTolerance, absolute
-  bool progress = true;                // a line per run on stderr
+  std::string fabric;       // a preset of reference/fabrics/fabrics.toml: cloth.fabric of every
+                            // scenario, and a target for each metric the fabric has a value of
+                            // (fabric_targets) that targets does not name
+  int max_runs = 12;        // per engine and target
+  double tolerance = 0.03;  // relative; drape_coefficient: kDrapeTolerance, absolute
+  bool progress = true;     // a line per run on stderr
 };
 
 /// The absolute tolerance of drape_coefficient (a fraction itself): the 0.03.
@@ -66,9 +70,16 @@ struct FitOutcome {
 /// bending_length (and its peirce variant, flexural_rigidity, drape_coefficient) ->
 /// cloth.stiffness.bend, or cloth.bending_rigidity for the hinge model; tensile_stiffness ->
 /// cloth.stiffness.structural (with the shear springs too on bullet-deformable, which takes one
-/// stiffness for both); bullet-softbody with stiffness = "klst" -> its own engine.klst.
+/// stiffness for both; structural_u or structural_v, the strip's direction, on a grid with
+/// per-direction springs); bullet-softbody with stiffness = "klst" -> its own engine.klst.
 /// Throws UserError for a metric without a default parameter.
 std::string default_parameter(const std::string& metric, const EngineSpec& e, const Scenario& s);
+
+/// The targets fabric f gives the metrics of scenario s: bending_length c = (B / (rho_A g))^(1/3)
+/// from its warp rigidity (the cantilever strip lies along u, the warp), tensile_stiffness
+/// from its warp or weft tensile stiffness (the strip's direction), drape_coefficient as
+/// measured; none for what f lacks.
+std::vector<FitTarget> fabric_targets(const Fabric& f, const Scenario& s);
 
 /// Fits every engine to every target (see the file comment). Throws UserError (ScenarioError)
 /// for a scenario that does not load, a target no scenario gives, an engine no scenario has.
