@@ -259,7 +259,7 @@ TEST_CASE("handles move their particles exactly along the path in every custom i
     CHECK(std::abs(error) < 0.01 * std::abs(c.contact_work()));
 }
 
-TEST_CASE("a cloth falling in wind reaches wind + m g / c", "[colliders]") {
+TEST_CASE("a cloth falling in wind reaches wind + m g / c", "[colliders][.heavy]") {
   const Integrator integrator = GENERATE(from_range(all_integrators()));
   Scene s = flat_cloth(0.0);
   s.cloth.air_drag = 0.05;  // N s/m per particle; m = 1/81 kg: time constant 0.25 s

@@ -362,7 +362,7 @@ TEST_CASE("locality_order is a permutation that undoes a shuffle's bandwidth", "
 }
 
 TEST_CASE("the stability predictor gives a grid and its general copy the same limits",
-          "[springs][stability]") {
+          "[springs][stability][.heavy]") {
   // equal stiffnesses (damping exactly proportional) and unequal ones (dense modal analysis)
   const double shear = GENERATE(300.0, 120.0);
   Scene s = draped_scene();

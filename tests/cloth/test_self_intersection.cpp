@@ -471,7 +471,7 @@ TEST_CASE("a state that is not finite gives -1 and NaN", "[selfintersection]") {
   CHECK(crossing.empty());
 }
 
-TEST_CASE("blown-up states are measured in bounded work", "[selfintersection]") {
+TEST_CASE("blown-up states are measured in bounded work", "[selfintersection][.heavy]") {
   const int nu = 48;
   const auto tris = grid_triangles(nu, nu);
   const SelfIntersectionMeter meter(nu * nu, tris, 0.01);

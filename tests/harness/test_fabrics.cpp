@@ -329,7 +329,7 @@ double settled_drop(const cloth::Model& m) {
 }  // namespace
 
 TEST_CASE("fabrics: an ARCSim fabric's cantilever gives its bending length (hinge model)",
-          "[fabrics]") {
+          "[fabrics][.heavy]") {
   // B (mean of warp and weft) and rho_A from the table, c = (B / (rho_A g))^(1/3): denim
   // 18.5 mm, royal-target 24.4 mm, tango-red-jet-set 15.8 mm; overhang about 2.2 c, 2 mm spacing
   const std::string name = GENERATE("11oz-black-denim", "royal-target", "tango-red-jet-set");
