@@ -11,8 +11,8 @@
 
 #include "harness/gate/tolerances_file.hpp"
 #include "harness/io/csv_reader.hpp"
-#include "harness/io/user_error.hpp"
 #include "harness/io/obj_reader.hpp"
+#include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario_loader.hpp"
 
 namespace clothbench::fuzz {

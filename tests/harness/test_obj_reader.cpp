@@ -7,8 +7,8 @@
 #include <string>
 
 #include "cloth/model/triangle_mesh.hpp"
-#include "harness/io/user_error.hpp"
 #include "harness/io/obj_reader.hpp"
+#include "harness/io/user_error.hpp"
 
 using namespace clothbench;
 namespace fs = std::filesystem;

@@ -243,6 +243,16 @@ void add_vertex_terms(const std::vector<Hinge>& hs, const std::vector<int>& at,
     }
 }
 
+/// The n by n form summed from triplets t, its exact zeros dropped.
+BendingForm assembled_form(size_t n, const std::vector<Eigen::Triplet<double>>& t) {
+  BendingForm form;
+  form.q.resize(Eigen::Index(n), Eigen::Index(n));
+  form.q.setFromTriplets(t.begin(), t.end());
+  form.q.prune(0.0);
+  form.q.makeCompressed();
+  return form;
+}
+
 }  // namespace
 
 BendingForm build_bending_form(const Matrix3X& x0, const std::vector<Triangle>& triangles,
@@ -281,12 +291,7 @@ BendingForm build_bending_form(const Matrix3X& x0, const std::vector<Triangle>& 
     if (!at[u].empty() && nb.norm() > 0 && area[u] > 0)
       add_vertex_terms(hs, at[u], {{nb, nb, rigidity * s.area / (area[u] * area[u])}}, t);
   }
-  BendingForm form;
-  form.q.resize(Eigen::Index(n), Eigen::Index(n));
-  form.q.setFromTriplets(t.begin(), t.end());
-  form.q.prune(0.0);
-  form.q.makeCompressed();
-  return form;
+  return assembled_form(n, t);
 }
 
 BendingForm build_laplacian_bending_form(const Matrix3X& x0, const std::vector<Triangle>& triangles,
@@ -320,12 +325,7 @@ BendingForm build_laplacian_bending_form(const Matrix3X& x0, const std::vector<T
     for (auto [p, wp] : rows[v])
       for (auto [q, wq] : rows[v]) t.emplace_back(p, q, s * wp * wq);
   }
-  BendingForm form;
-  form.q.resize(Eigen::Index(n), Eigen::Index(n));
-  form.q.setFromTriplets(t.begin(), t.end());
-  form.q.prune(0.0);
-  form.q.makeCompressed();
-  return form;
+  return assembled_form(n, t);
 }
 
 BendingForm build_edge_bending_form(const Matrix3X& x0, const std::vector<Triangle>& triangles,

@@ -7,8 +7,8 @@
 #include "cloth/analysis/self_intersection.hpp"
 #include "cloth/model/mesh_generator.hpp"
 #include "cloth/model/triangle_mesh.hpp"
-#include "harness/scenario/fabric_preset.hpp"
 #include "harness/io/obj_reader.hpp"
+#include "harness/scenario/fabric_preset.hpp"
 
 namespace clothbench {
 
