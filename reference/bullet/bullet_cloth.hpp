@@ -224,6 +224,8 @@ class BulletCloth : public cloth::Simulator {
   /// lengths of start_positions(), not of the model's rest positions, where a particle starts
   /// inside a contact shell (as before set_state existed; not changed here).
   void take_first_step_constants();
+  /// True when a handle's path moves over the step of dt from m_t.
+  bool handles_moved(double dt) const;
   /// Gives the handle nodes the velocity that takes them along their path over the next step.
   void start_handles(double dt);
   /// Puts the handle nodes exactly on their path at time t (s).

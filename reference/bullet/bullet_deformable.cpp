@@ -18,6 +18,7 @@
 #include "cloth/model/triangle_mesh.hpp"
 #include "format/number_format.hpp"
 #include "reference/bullet/bullet_cloth.hpp"
+#include "reference/bullet/repulsion_order.hpp"
 
 namespace clothbench::reference {
 
@@ -95,6 +96,8 @@ class BulletDeformableCloth final : public BulletCloth {
     m_body->setSpringStiffness(o.repulsion_stiffness);
     // equal to the colliders' margin when there are colliders (deformable_refusal checks)
     m_body->getCollisionShape()->setMargin(self_collision_margin(o, scene));
+    // the repulsions' shuffled order from Bullet's initial state, whatever ran before
+    reset_repulsion_order();
     // the face tree and its normal-cone copy are built by Bullet's first step, as SDF_RD is
     // on and building the body set m_bUpdateRtCst (btDeformableBodySolver.cpp:428-436)
   }

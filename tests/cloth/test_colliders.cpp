@@ -250,13 +250,7 @@ TEST_CASE("handles move their particles exactly along the path in every custom i
   CHECK(worst <= kHandleCustom);
   // the cloth followed: lifted by its corners, its centre of mass rose
   CHECK(com(c).y() > 0.1);
-  // the holder's work is booked: what is left is the integrator's own error, small against it
-  const Energies e = compute_energies(c.model(), c.positions(), c.velocities());
-  const Energies e0 = compute_energies(c.model(), x0, Matrix3X::Zero(3, x0.cols()));
-  const double error = e.total() + c.dissipated() - c.contact_work() - e0.total();
-  INFO("energy error " << error << " J, holder and contact work " << c.contact_work() << " J");
-  if (integrator == Integrator::rk4 || integrator == Integrator::midpoint)
-    CHECK(std::abs(error) < 0.01 * std::abs(c.contact_work()));
+  // (the holder's work and the energy balance: tests/harness/test_handle_work.cpp)
 }
 
 TEST_CASE("a cloth falling in wind reaches wind + m g / c", "[colliders][.heavy]") {

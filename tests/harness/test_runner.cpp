@@ -126,6 +126,7 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
                                                   "dissipated",
                                                   "contact_work",
                                                   "unbooked",
+                                                  "handle_work",
                                                   "total_energy",
                                                   "energy_error",
                                                   "max_strain",
@@ -159,12 +160,13 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
     if (k == 0) e0 = total;
     CHECK(frames.num(r, "energy_error") ==
           Approx(total + frames.num(r, "dissipated") - frames.num(r, "contact_work") -
-                 frames.num(r, "unbooked") - e0)
+                 frames.num(r, "handle_work") - frames.num(r, "unbooked") - e0)
               .margin(1e-9));
     CHECK(frames.num(r, "dissipated") >= 0.0);
     // the sphere is out of reach: no contact work, and a custom engine books everything
     CHECK(frames.num(r, "contact_work") == 0.0);
     CHECK(frames.num(r, "unbooked") == 0.0);
+    CHECK(frames.num(r, "handle_work") == 0.0);  // no handle
     CHECK(frames.num(r, "max_strain") >= frames.num(r, "mean_strain"));
     CHECK(frames.num(r, "min_y") <= frames.num(r, "com_y"));
     CHECK(frames.num(r, "max_penetration") == 0.0);

@@ -73,7 +73,8 @@ void MassSpringCloth::set_state(const Matrix3X& x, const Matrix3X& v, double t) 
     throw std::invalid_argument("set_state: positions and velocities must be 3 by " +
                                 std::to_string(n));
   // held axes take x as given; their velocity is zero as every step leaves it, but a handle's
-  // particles keep theirs (only the holder's books read it: the next step sets the path's)
+  // particles keep theirs (only the harness's books of the handles read it: the next step sets
+  // the path's)
   m_x = x;
   m_v = v.cwiseProduct(m_model.free);
   for (const Handle& hd : m_model.handles)
@@ -134,7 +135,7 @@ void MassSpringCloth::step(double h) {
   integrate(h);
   m_t += h;
   ++m_counters.steps;
-  if (!m_model.handles.empty()) finish_handles(h);
+  if (!m_model.handles.empty()) finish_handles();
   // a scene without colliders or self-contact skips the contact pass altogether
   if (!m_model.spheres.empty() || !m_model.shapes.empty() || m_self) resolve_contacts(h);
 }
@@ -197,40 +198,20 @@ void MassSpringCloth::integrate(double h) {
   m_dissipated += dissipated;
 }
 
-double MassSpringCloth::handle_power() {
-  // the holder's force cancels every other force on a handle particle, which does not accelerate
-  ++m_counters.force_evals;
-  m_force.setZero();
-  add_spring_forces(m_model.springs, m_x, m_v, m_force, m_buf);
-  m_model.add_drag(m_v, m_force);
-  double power = 0.0;
-  for (const Handle& hd : m_model.handles)
-    for (int p : hd.particles)
-      power -= (m_force.col(p) + m_model.mass[p] * m_model.gravity).dot(m_v.col(p));
-  return power;
-}
-
 void MassSpringCloth::start_handles(double h) {
-  double work = 0.0;
+  // the holder sets the path's velocity at once (the harness books its work)
   for (const Handle& hd : m_model.handles) {
     const Vector3 v = (hd.motion.displacement(m_t + h) - hd.motion.displacement(m_t)) / h;
-    for (int p : hd.particles) {
-      // the holder changes the particle's kinetic energy at once
-      work += 0.5 * m_model.mass[p] * (v.squaredNorm() - m_v.col(p).squaredNorm());
-      m_v.col(p) = v;
-    }
+    for (int p : hd.particles) m_v.col(p) = v;
   }
-  // the trapezoidal rule on the holder's power over the step, its first half here
-  m_contact_work += work + 0.5 * h * handle_power();
 }
 
-void MassSpringCloth::finish_handles(double h) {
+void MassSpringCloth::finish_handles() {
   // exactly on the path, whatever the round-off of x += h v
   for (const Handle& hd : m_model.handles) {
     const Vector3 d = hd.motion.displacement(m_t);
     for (int p : hd.particles) m_x.col(p) = m_model.x0.col(p) + d;
   }
-  m_contact_work += 0.5 * h * handle_power();
 }
 
 void MassSpringCloth::resolve_contacts(double h) {

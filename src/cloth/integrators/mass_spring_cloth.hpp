@@ -37,6 +37,7 @@ class MassSpringCloth final : public Simulator {
   double dissipated() const override { return m_dissipated; }
   /// Work of the contact projection and velocity response, booked exactly every step.
   double contact_work() const override { return m_contact_work; }
+  bool handles_act_by_force() const override { return true; }
   Counters counters() const override { return m_counters; }
   int contacts() const override { return m_contacts; }
   Vector3 contact_impulse() const override { return m_contact_impulse; }
@@ -92,16 +93,14 @@ class MassSpringCloth final : public Simulator {
   /// Gives the handle particles their path's velocity over the next step of h seconds.
   void start_handles(double h);
   /// Puts the handle particles exactly on their path at the step's end.
-  void finish_handles(double h);
-  /// Power (W) of the handles' holder at the current state; counts a force evaluation.
-  double handle_power();
+  void finish_handles();
 
   Model m_model;
   SolverOptions m_options;
   Matrix3X m_x, m_v;
   double m_t = 0;
   double m_dissipated = 0;    // J, dampers and drag
-  double m_contact_work = 0;  // J, net work of the contact response and the handles
+  double m_contact_work = 0;  // J, net work of the contact response
   int m_contacts = 0;         // particle-collider contacts of the last contact pass
   Vector3 m_contact_impulse = Vector3::Zero();  // N s, the colliders' impulse so far
   Counters m_counters;

@@ -54,9 +54,13 @@ class Simulator {
   virtual double dissipated() const = 0;
   /// Net work of the contact response since the start (J): the energy it added (lifting
   /// particles out of an obstacle against gravity and springs) minus the energy it removed
-  /// (the normal velocity it cancels, friction), and the work of the handles' holder;
-  /// 0 for an engine that cannot separate it.
+  /// (the normal velocity it cancels, friction); 0 for an engine that cannot separate it. The
+  /// handles' work is not in it: the harness books that for every engine alike.
   virtual double contact_work() const { return 0.0; }
+  /// True when the handles move their particles by force: the holder supplies exactly what
+  /// cancels every other force on them (the custom engine), so the scene's forces give the
+  /// holder's work. False for an engine that projects them onto their path.
+  virtual bool handles_act_by_force() const { return false; }
   /// Particle-collider contacts (particles within a collider's shell) at the last step; -1 for
   /// an engine that cannot say.
   virtual int contacts() const { return -1; }

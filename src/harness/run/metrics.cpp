@@ -80,6 +80,7 @@ FrameMetrics frame_metrics(const cloth::Model& model, double t, const Matrix3X& 
   m.dissipated = books.dissipated;
   m.contact_work = books.contact_work;
   m.unbooked = books.unbooked;
+  m.handle_work = books.handle_work;
   m.total_energy = e.total();
   m.energy_error = energy_error(m.total_energy, books, e0);
   const cloth::StrainStats s = cloth::strain_stats(model.springs, x);

@@ -23,6 +23,7 @@
 #include "harness/run/engine_metric.hpp"
 #include "harness/run/ensemble_member.hpp"
 #include "harness/run/mesh_file.hpp"
+#include "harness/run/run_books.hpp"
 #include "harness/run/trajectory_files.hpp"
 #include "harness/scenario/engine_refusal.hpp"
 #include "harness/scenario/scenario_writer.hpp"
@@ -47,19 +48,15 @@ bool over_budget(const Scenario& sc, std::chrono::steady_clock::time_point start
            sc.max_run_seconds);
 }
 
-/// What engine sim has booked of its energy so far.
-EnergyBooks books_of(const cloth::Simulator& sim) {
-  return EnergyBooks{sim.dissipated(), sim.contact_work(), sim.unbooked()};
-}
-
 /// The energy half of the blow-up test: a run fails once its energy error, the energy its
 /// scheme created, exceeds blowup_energy times the EnergyScale. One-sided: a scheme that loses
 /// energy (backward Euler's numerical damping) is dissipative, not unstable.
 class EnergyTest {
  public:
   /// Starts the books at sim's current (initial) state.
-  EnergyTest(const cloth::Model& model, const cloth::Simulator& sim, double blowup_energy)
-      : m_model(model), m_sim(sim), m_scale(model), m_limit(blowup_energy) {
+  EnergyTest(const cloth::Model& model, const cloth::Simulator& sim, const RunBooks& books,
+             double blowup_energy)
+      : m_model(model), m_sim(sim), m_books(books), m_scale(model), m_limit(blowup_energy) {
     const cloth::Energies e = cloth::compute_energies(model, sim.positions(), sim.velocities());
     m_e0 = e.total();
     m_scale.observe(e.kinetic, e.elastic_potential);
@@ -73,7 +70,7 @@ class EnergyTest {
     const cloth::Energies e =
         cloth::compute_energies(m_model, m_sim.positions(), m_sim.velocities());
     m_scale.observe(e.kinetic, e.elastic_potential);
-    const double error = energy_error(e.total(), books_of(m_sim), m_e0);
+    const double error = energy_error(e.total(), m_books.now(), m_e0);
     if (!std::isfinite(error)) return "non-finite";
     return m_scale.exceeded_by(error, m_limit) ? "energy" : nullptr;
   }
@@ -81,6 +78,7 @@ class EnergyTest {
  private:
   const cloth::Model& m_model;
   const cloth::Simulator& m_sim;
+  const RunBooks& m_books;
   EnergyScale m_scale;
   double m_limit;
   double m_e0 = 0;  // J
@@ -191,7 +189,8 @@ EngineRun run_engine_on(const Scenario& sc, const EngineSpec& spec, const cloth:
       sc.snapshot_interval > 0 ? std::llround(sc.snapshot_interval / sc.frame_interval) : 0;
   const long long steps_per_check =
       std::clamp(std::llround(kEnergyCheckInterval / spec.dt), 1LL, steps_per_frame);
-  EnergyTest energy_test(model, *sim, sc.blowup_energy);
+  RunBooks books(model, *sim);
+  EnergyTest energy_test(model, *sim, books, sc.blowup_energy);
   auto fail = [&](const char* cause) {
     run.stable = false;
     run.cause = cause;
@@ -204,7 +203,7 @@ EngineRun run_engine_on(const Scenario& sc, const EngineSpec& spec, const cloth:
   auto log_frame = [&](long long frame, bool stable) {
     const double t = stable ? double(frame) * sc.frame_interval : sim->time();
     FrameMetrics m = contact.read(frame_metrics(model, t, sim->positions(), sim->velocities(),
-                                                books_of(*sim), energy_test.e0(), &meter));
+                                                books.now(), energy_test.e0(), &meter));
     m.stable = stable;
     // a NaN energy error sticks (std::max would drop it and let the gate pass)
     if (stable && !std::isnan(run.max_energy_error) &&
@@ -237,6 +236,7 @@ EngineRun run_engine_on(const Scenario& sc, const EngineSpec& spec, const cloth:
       const auto t0 = std::chrono::steady_clock::now();
       if (!advance_engine(*sim, spec.dt, k, run)) break;
       run.wall_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      books.observe();
       s += k;
       if (!cloth::within_stretch(model.springs, sim->positions(), sc.blowup_strain)) {
         fail(sim->positions().allFinite() ? "strain" : "non-finite");
@@ -438,6 +438,7 @@ void write_frames(const RunResult& result, CsvWriter& frames) {
     for (const FrameMetrics& m : run.frames) {
       frames.add(run.spec.name).add(m.t).add(m.kinetic).add(m.gravity_potential);
       frames.add(m.elastic_potential).add(m.dissipated).add(m.contact_work).add(m.unbooked);
+      frames.add(m.handle_work);
       frames.add(m.total_energy).add(m.energy_error);
       frames.add(m.max_strain).add(m.mean_strain).add(m.com.x()).add(m.com.y()).add(m.com.z());
       frames.add(m.min_y).add(m.max_penetration).add(m.shadow_area).add(m.stable ? 1 : 0);
