@@ -78,8 +78,14 @@ void print_summary(const FitOutcome& outcome) {
       continue;
     }
     std::cout << (std::isfinite(r.achieved) ? short_number(r.achieved) : "no value") << " (target "
-              << short_number(r.target) << ") at " << r.parameter << " = " << short_number(r.value)
-              << ", " << r.runs << " runs, " << r.status;
+              << short_number(r.target) << ")";
+    if (r.runs > 0) std::cout << " at " << r.parameter << " = " << short_number(r.value);
+    std::cout << ", " << r.runs << " runs, " << r.status;
+    // the reason of a target unreachable before any run is on stderr already
+    if (r.runs == 0 && r.status == "unreachable") {
+      std::cout << ": the scenario cannot show it (see above)\n";
+      continue;
+    }
     if (r.status != "converged") std::cout << ": " << r.note << "; the best reached is given";
     std::cout << "\n";
   }

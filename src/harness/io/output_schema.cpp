@@ -337,7 +337,7 @@ std::vector<OutputFile> fit_files() {
             {"parameter", "text",
              "the scenario key fitted, as --set takes it (engine.KEY: the engine's own key; "
              "a+b: both set to the value)"},
-            {"value", "as the key", "the fitted value: the best run's"},
+            {"value", "as the key", "the fitted value: the best run's; empty when no run was made"},
             {"metric", "text", "the target metric (a [test] metric or drape_coefficient)"},
             {"target", "as the metric", "the value asked for"},
             {"achieved", "as the metric",

@@ -588,7 +588,8 @@ void write_fit(const FitOptions& o, const FitOutcome& outcome, const std::string
   CsvWriter csv(staged.path() + "fit.csv", output_header("fit.csv"));
   for (const FitRow& r : outcome.rows) {
     csv.add(r.engine).add(r.parameter);
-    if (r.status == "no engine")
+    // no run, no value: the engine is missing or the target unreachable before any run
+    if (r.status == "no engine" || r.runs == 0)
       csv.skip();
     else
       csv.add(r.value);
