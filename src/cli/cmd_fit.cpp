@@ -83,7 +83,7 @@ void print_summary(const FitOutcome& outcome) {
     std::cout << ", " << r.runs << " runs, " << r.status;
     // the reason of a target unreachable before any run is on stderr already
     if (r.runs == 0 && r.status == "unreachable") {
-      std::cout << ": the scenario cannot show it (see above)\n";
+      std::cout << ": the scenario cannot show it (why: on stderr)\n";
       continue;
     }
     if (r.status != "converged") std::cout << ": " << r.note << "; the best reached is given";
@@ -171,7 +171,9 @@ Command add_fit_command(CLI::App& app) {
       ->allow_extra_args(false);
   fit->add_option("--engine,-e", o.engines, "fit only this engine (repeatable)")
       ->allow_extra_args(false);
-  fit->add_option("--max-runs", o.max_runs, "runs per engine and target at most")
+  fit->add_option("--max-runs", o.max_runs,
+                  "runs per engine and target at most (a joint fit: evaluations, each a run of\n"
+                  "every scenario of its targets)")
       ->capture_default_str()
       ->check(positive_integer());
   fit->add_option("--tolerance", o.tolerance,
