@@ -14,7 +14,6 @@ Exit codes: 0 page written; 2 bad input (one line on stderr naming the folder or
 internal error (one line; --debug prints the traceback).
 """
 
-import csv
 import math
 import os
 import signal
@@ -29,8 +28,6 @@ from analysis.csvio import ArgumentParser, ReportError, message  # noqa: E402
 
 PROG = "fit page"
 GOAL = 0.03  # issue 31: relative, and absolute for the drape coefficient (a fraction itself)
-COLUMNS = ["engine", "parameter", "value", "metric", "target", "achieved", "relative_error",
-           "runs", "sensitivity", "sensitivities", "status"]
 
 
 def parse_args(argv):
@@ -44,27 +41,13 @@ def parse_args(argv):
     return p.parse_args(argv)
 
 
-def _number(text):
-    try:
-        return float(text) if text != "" else math.nan
-    except ValueError:
-        return math.nan
-
-
 def read_fit(path):
-    """fit.csv's rows as dicts (numbers as floats, NaN for empty), checked against its columns."""
+    """fit.csv's rows as dicts (numbers as floats, NaN for empty), read against its schema."""
+    from analysis.csvio import read_table
     if not os.path.exists(path):
         raise ReportError(f"{path}: no such file (expected the output folder of clothbench fit)")
-    with open(path, newline="", encoding="utf-8") as fh:
-        reader = csv.DictReader(fh)
-        missing = [c for c in COLUMNS if c not in (reader.fieldnames or [])]
-        if missing:
-            raise ReportError(f"{path}: missing columns {', '.join(missing)}")
-        rows = list(reader)
-    for r in rows:
-        for c in ("value", "target", "achieved", "relative_error", "runs"):
-            r[c] = _number(r[c])
-    return rows
+    return [{k: (str(v) if isinstance(v, str) else float(v)) for k, v in row.items()}
+            for row in read_table(path).rows()]
 
 
 def error_of(row):
