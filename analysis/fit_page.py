@@ -142,6 +142,7 @@ def error_plot(rows, outdir, svg, colors):
                 ax.text(k, 0.0, "no engine" if r["status"] == "no engine" else "no value",
                         rotation=90, ha="center", va="bottom",
                         fontsize=style.FONT - 2, color="#a00")
+        ax.set_xlim(-0.6, len(engines) - 0.4)
         ax.set_xticks(np.arange(len(engines)))
         ax.set_xticklabels(engines, rotation=30, ha="right", fontsize=style.FONT - 2)
         ax.set_title(f"{m} (target {t:.4g})", fontsize=style.FONT)
