@@ -346,7 +346,8 @@ std::vector<OutputFile> fit_files() {
             {"relative_error", "1", "(achieved - target) / |target|"},
             {"runs", "count",
              "runs of the metric's scenario this fit made (its bracket and secant steps; a "
-             "joint fit's evaluations, each running every scenario of its targets once); 0 "
+             "joint fit's evaluations, each running every scenario of its targets once, a run made "
+             "before reused); 0 "
              "when the target was found unreachable before any run"},
             {"sensitivity", "metric unit per parameter unit",
              "d metric / d parameter between the two runs nearest the fitted value; empty with "
