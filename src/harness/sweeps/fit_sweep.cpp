@@ -466,41 +466,65 @@ void fit_joint(FitJob& job, std::vector<FitRow>& rows, const std::vector<size_t>
   }
 }
 
+/// Runs engine at the joint fit's start for rows[active]; returns the targets whose metric has a
+/// value there (the joint fit's first runs, remembered); the others' rows say they had none.
+std::vector<size_t> given_at_start(FitJob& job, const std::string& engine,
+                                   std::vector<FitRow>& rows, const std::vector<size_t>& active) {
+  const JointFitOptions jo = joint_options(job, rows, active);
+  const std::vector<std::string> start = joint_sets(jo, engine, jo.start);
+  std::vector<size_t> given;
+  for (const size_t t : active) {
+    FitRow& row = rows[t];
+    const int before = job.runs;
+    row.achieved = measure(job, row.scenario, engine, row.metric, start);
+    row.runs = job.runs - before;
+    if (std::isfinite(row.achieved)) {
+      given.push_back(t);
+      continue;
+    }
+    row.status = fit_status_name(FitStatus::failed);
+    row.note = "the engine gives no " + row.metric + " at the start";
+  }
+  return given;
+}
+
+/// Keeps the fitted value of every row of engine that has one.
+void keep_rows(FitJob& job, const std::string& engine, const std::vector<FitRow>& rows) {
+  for (const FitRow& row : rows)
+    if (!row.parameter.empty() && row.status != "failed" && row.runs > 0)
+      keep_fitted(job.outcome, engine, row.parameter, row.value);
+}
+
 /// Fits every target of engine: each one the scenario cannot show at all is unreachable at
-/// once; the rest, one alone by the monotone solver, several together by the joint solver (a
-/// target whose metric the engine does not give at the start is left out as failed).
+/// once; the rest, one alone by the monotone solver, several together by the joint solver. A
+/// target whose metric has no value at the joint fit's start (a cantilever too soft to measure)
+/// is fitted alone afterwards, from the joint fit's values, when its parameter is its own.
 void fit_engine(FitJob& job, const std::string& engine) {
   std::vector<FitRow> rows;
-  std::vector<size_t> active;
+  std::vector<size_t> active, alone;
   for (size_t t = 0; t < job.targets.size(); ++t) {
     rows.push_back(new_row(job, engine, t));
     if (rows.back().status.empty()) active.push_back(t);
   }
   if (active.size() >= 2) {
-    // the start, run once (the joint fit's first runs, remembered): a metric the engine gives
-    // no value of there is left out
-    const std::vector<std::string> start = joint_sets(joint_options(job, rows, active), engine,
-                                                      joint_options(job, rows, active).start);
-    std::vector<size_t> given;
+    const std::vector<size_t> given = given_at_start(job, engine, rows, active);
     for (const size_t t : active) {
-      FitRow& row = rows[t];
-      const int before = job.runs;
-      row.achieved = measure(job, row.scenario, engine, row.metric, start);
-      row.runs = job.runs - before;
-      if (std::isfinite(row.achieved)) {
-        given.push_back(t);
-        continue;
-      }
-      row.status = fit_status_name(FitStatus::failed);
-      row.note = "the engine gives no " + row.metric + " at the scene's values; fit it alone";
+      const auto shares = [&](size_t g) { return rows[g].parameter == rows[t].parameter; };
+      if (rows[t].status == "failed" && std::none_of(given.begin(), given.end(), shares))
+        alone.push_back(t);
     }
     active = given;
   }
   if (active.size() == 1) fit_one(job, rows[active.front()], active.front());
   if (active.size() >= 2) fit_joint(job, rows, active);
-  for (const FitRow& row : rows)
-    if (!row.parameter.empty() && row.status != "failed" && row.runs > 0)
-      keep_fitted(job.outcome, engine, row.parameter, row.value);
+  keep_rows(job, engine, rows);
+  // each left out alone, with the values fitted so far (the monotone solver finds a start)
+  for (const size_t t : alone) {
+    fit_one(job, rows[t], t);
+    if (rows[t].status != "failed")
+      rows[t].note += " (fitted alone after the others: they were not measured again)";
+    keep_rows(job, engine, {rows[t]});
+  }
   job.outcome.rows.insert(job.outcome.rows.end(), rows.begin(), rows.end());
 }
 
