@@ -122,6 +122,13 @@ SCHEMAS = {
     # a strip-tensile [test]: one frame of one engine's force-strain curve
     "tensile.csv": Schema(
         ["engine", "t", "strain", "force_per_width"], text=["engine"], keys=["engine", "t"]),
+    # clothbench fit: one target metric of one engine; an engine without the metric's scene
+    # ("no engine") or a target unreachable before any run leaves value and achieved empty
+    "fit.csv": Schema(
+        ["engine", "parameter", "value", "metric", "target", "achieved", "relative_error", "runs",
+         "sensitivity", "sensitivities", "status"],
+        text=["engine", "parameter", "metric", "sensitivities", "status"],
+        keys=["engine", "metric", "target", "status"]),
     "attribution.csv": Schema(
         ["engine", "reference", "matched", "at", "t", "total_rms", "scheme_rms", "model_rms",
          "note"],

@@ -179,7 +179,9 @@ constexpr double kCantileverSpread = 0.03;
 /// A fitted parameter against the one that made its synthetic target: the fit stops once the
 /// metric is within its tolerance, so the parameter is off by up to tolerance / elasticity (the
 /// measured d ln metric / d ln parameter) to first order; 1.5 allows for the curvature of the
-/// metric between the solution and the secant's runs.
+/// metric between the solution and the secant's runs. A joint fit of two metrics: the
+/// parameters are off by up to |E^-1| (tolerance, tolerance) with E the 2 by 2 elasticities from
+/// its Jacobian (Broyden-updated, so also only to first order), with the same allowance.
 constexpr double kFitParameterSlack = 1.5;
 /// The strip-tensile slope of a spring lattice against its closed form fitted at the same
 /// strains (test_tensile.cpp): the handle starts at full speed and sends a tension wave of

@@ -1,6 +1,7 @@
 /// @file cmd_fit.cpp
 /// `clothbench fit`: each engine's parameters fitted so that its metrics hit their targets.
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +15,7 @@
 #include "exit_codes.hpp"
 #include "harness/io/output_lock.hpp"
 #include "harness/io/user_error.hpp"
+#include "harness/run/runner.hpp"
 #include "harness/sweeps/fit_sweep.hpp"
 #include "support/option_checks.hpp"
 #include "support/scenario_input.hpp"
@@ -26,6 +28,7 @@ struct FitArgs {
   std::vector<std::string> range_texts;   // KEY=LO:HI
   std::string out_dir;
   bool quiet = false;
+  bool run = false;  // --run: the fitted scenarios run, and fit.html comparing the engines
   FitOptions options;
 };
 
@@ -75,12 +78,47 @@ void print_summary(const FitOutcome& outcome) {
       continue;
     }
     std::cout << (std::isfinite(r.achieved) ? short_number(r.achieved) : "no value") << " (target "
-              << short_number(r.target) << ") at " << r.parameter << " = " << short_number(r.value)
-              << ", " << r.runs << " runs, " << r.status;
+              << short_number(r.target) << ")";
+    if (r.runs > 0) std::cout << " at " << r.parameter << " = " << short_number(r.value);
+    std::cout << ", " << r.runs << " runs, " << r.status;
+    // the reason of a target unreachable before any run is on stderr already
+    if (r.runs == 0 && r.status == "unreachable") {
+      std::cout << ": the scenario cannot show it (why: on stderr)\n";
+      continue;
+    }
     if (r.status != "converged") std::cout << ": " << r.note << "; the best reached is given";
     std::cout << "\n";
   }
   std::cout << std::flush;
+}
+
+/// Each reason a target was unreachable before any run, once on stderr: what to change.
+void explain_unmeasurable(const FitOutcome& outcome) {
+  std::vector<std::string> said;
+  for (const FitRow& r : outcome.rows) {
+    if (r.status != "unreachable" || r.runs > 0) continue;
+    if (std::find(said.begin(), said.end(), r.note) != said.end()) continue;
+    said.push_back(r.note);
+    std::cerr << "clothbench: fit: unreachable before any run: " << r.note << "\n";
+  }
+}
+
+/// --run: each fitted scenario run (the engines fitted, with its reference) into
+/// DIR/runs/<its file stem>, then analysis/fit_page.py writes DIR/fit.html comparing the
+/// engines at the fitted values; returns the script's exit status.
+int run_fitted(const FitOptions& o, const std::string& dir, bool quiet) {
+  for (const std::string& path : o.scenarios) {
+    const std::filesystem::path file(path);
+    const std::string fitted = dir + "/fitted/" + file.filename().string();
+    const std::string out = dir + "/runs/" + file.stem().string();
+    const Scenario sc = load_or_seed(fitted, {}, o.engines);
+    RunOptions ro;
+    ro.engines = o.engines;
+    ro.progress = !quiet;
+    write_run(run_scenario(sc, ro), out);
+    if (!quiet) std::cerr << "fit: ran " << fitted << " into " << out << "\n";
+  }
+  return run_analysis_script("fit_page.py", {dir});
 }
 
 int execute_fit(FitArgs a) {
@@ -101,8 +139,9 @@ int execute_fit(FitArgs a) {
   const OutputLock lock(a.out_dir);
   const FitOutcome outcome = run_fit(o);
   write_fit(o, outcome, a.out_dir);
+  explain_unmeasurable(outcome);
   print_summary(outcome);
-  return kExitOk;
+  return a.run ? run_fitted(o, a.out_dir, a.quiet) : kExitOk;
 }
 
 }  // namespace
@@ -114,7 +153,8 @@ Command add_fit_command(CLI::App& app) {
       "fit",
       "Fits each engine's parameters so that its metrics hit their targets: each target's\n"
       "metric comes from the scenario whose [test] gives it, one parameter per target\n"
-      "(bracketing and secant steps in log parameter). Writes fit.csv and fitted/<scenario>,\n"
+      "(one target: bracketing and secant steps in log parameter; several on one engine: a\n"
+      "joint damped Gauss-Newton fit). Writes fit.csv and fitted/<scenario>,\n"
       "whose engines carry their fitted values (overrides = { ... }) for clothbench run.");
   fit->add_option("scenarios", o.scenarios, "scenario files (TOML)")->required();
   fit->add_option("--target,-t", a->target_texts,
@@ -131,7 +171,9 @@ Command add_fit_command(CLI::App& app) {
       ->allow_extra_args(false);
   fit->add_option("--engine,-e", o.engines, "fit only this engine (repeatable)")
       ->allow_extra_args(false);
-  fit->add_option("--max-runs", o.max_runs, "runs per engine and target at most")
+  fit->add_option("--max-runs", o.max_runs,
+                  "runs per engine and target at most (a joint fit: evaluations, each a run of\n"
+                  "every scenario of its targets)")
       ->capture_default_str()
       ->check(positive_integer());
   fit->add_option("--tolerance", o.tolerance,
@@ -141,6 +183,9 @@ Command add_fit_command(CLI::App& app) {
   fit->add_option("--set,-s", o.overrides, "override a key of every scenario (repeatable)")
       ->allow_extra_args(false);
   fit->add_option("--out,-o", a->out_dir, "output folder")->required();
+  fit->add_flag("--run", a->run,
+                "then run each fitted scenario into OUT/runs/<its name> and write OUT/fit.html:\n"
+                "the engines compared at the fitted values (analysis/fit_page.py)");
   fit->add_flag("--quiet,-q", a->quiet, "no progress on stderr");
   return {fit, [a] { return execute_fit(*a); }, false};
 }

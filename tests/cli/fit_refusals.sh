@@ -2,7 +2,7 @@
 # clothbench fit refuses what it cannot do before any run, in one line naming the option:
 # a malformed --target or --range, a metric no scenario gives, an engine no scenario has, more
 # ranges than targets; nothing is written then. An engine without a metric's scenario is a
-# row "no engine", not an error.
+# row "no engine", not an error; a target the scenario cannot show is unreachable at once.
 # Usage: fit_refusals.sh CLOTHBENCH SOURCE_DIR WORK_DIR
 set -u
 clothbench=$1 source=$2 work=$3
@@ -30,7 +30,15 @@ has stderr "2 ranges for 1 targets" "more ranges than targets"
 # the chain has no custom-implicit-euler: its row says so, the cantilever's engine is fitted
 expect 0 "$clothbench" fit "$chain" "$cantilever" -q -o "$work/g" --target bending_length=0.03 \
   -e custom-implicit-euler --max-runs 1
-has g/fit.csv "^custom-implicit-euler,cloth.stiffness.bend,1000,bending_length,0.03,.*,1,,budget$" "one run at the start"
+has g/fit.csv "^custom-implicit-euler,cloth.stiffness.bend,1000,bending_length,0.03,.*,1,,,budget$" "one run at the start"
 has stdout "custom-implicit-euler: bending_length" "summary"
 [ -f "$work/g/fitted/hanging_chain.toml" ] || fail "no fitted hanging_chain.toml"
+
+# a bending length below what the 0.1 m overhang can show (l / 6: the chord passes 83.9
+# degrees) is unreachable before any run, with the reason on stderr and no value in fit.csv
+expect 0 "$clothbench" fit "$cantilever" -q -o "$work/u" --target bending_length=0.01 \
+  -e custom-implicit-euler
+has stderr "unreachable before any run: bending_length 0.01 lies below what the 0.1 m overhang" "reason"
+has stderr "shorten the overhang" "what to change"
+has u/fit.csv "^custom-implicit-euler,cloth.stiffness.bend,,bending_length,0.01,,,0,,,unreachable$" "no run"
 exit $((failures > 0))

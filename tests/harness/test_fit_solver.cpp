@@ -1,7 +1,8 @@
 // The one-parameter solver of clothbench fit on analytic monotone functions: it brackets and
 // converges from far away, in either direction, says when a target is out of reach, and
 // treats a run without a metric (a blow-up) as the end of the range. And the targets a
-// fabric preset gives each scenario (--fabric).
+// fabric preset gives each scenario (--fabric), and the bending lengths a cantilever cannot
+// show at any stiffness.
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -9,6 +10,7 @@
 
 #include "harness/scenario/fabric_preset.hpp"
 #include "harness/scenario/scenario_loader.hpp"
+#include "harness/sweeps/fit_reach.hpp"
 #include "harness/sweeps/fit_solver.hpp"
 #include "harness/sweeps/fit_sweep.hpp"
 
@@ -145,4 +147,28 @@ TEST_CASE("a fabric's targets are the metrics its measurements give", "[fit]") {
   // a fabric without a drape measurement gives the Cusick scene no target
   f.drape_coefficient.reset();
   REQUIRE(fabric_targets(f, load_scenario(dir + "cusick_drape.toml")).empty());
+}
+
+TEST_CASE("a bending length a cantilever cannot show is unreachable before any run", "[fit]") {
+  const std::string dir = CLOTHBENCH_SOURCE_DIR "/scenarios/";
+  // the file's strip runs from x = -0.1 to 0.1 m over an edge at 0: 0.1 m overhang
+  const Scenario s = load_scenario(dir + "fabric/cantilever.toml");
+  REQUIRE(cantilever_overhang(s) == Approx(0.1).epsilon(1e-12));
+  // the elastica gives c only while l / c <= 6 (chord 83.9 degrees): c >= 0.1 / 6 = 0.01667 m,
+  // a target counting as reached within its tolerance
+  const auto short_c = unmeasurable_target("bending_length", 0.016, 0.0003, s);
+  REQUIRE(short_c);
+  REQUIRE(short_c->find("83.9 degrees") != std::string::npos);
+  REQUIRE(short_c->find("at most 6 c = 0.096 m") != std::string::npos);
+  REQUIRE_FALSE(unmeasurable_target("bending_length", 0.016, 0.001, s));
+  REQUIRE_FALSE(unmeasurable_target("bending_length", 0.03, 0.0009, s));
+  // flexural rigidity G = rho_A g c^3: the same bound, 0.2 x 9.8 x (0.1 / 6)^3 = 9.07e-6 N m
+  const double g_min = 0.2 * 9.8 * std::pow(0.1 / 6.0, 3);
+  REQUIRE(unmeasurable_target("flexural_rigidity", 0.9 * g_min, 0.01 * g_min, s));
+  REQUIRE_FALSE(unmeasurable_target("flexural_rigidity", 1.1 * g_min, 0.01 * g_min, s));
+  // other metrics and other tests: the harness cannot tell
+  REQUIRE_FALSE(unmeasurable_target("bending_length_peirce", 0.001, 0.0, s));
+  const Scenario strip = load_scenario(dir + "fabric/strip-tensile-warp.toml");
+  REQUIRE(std::isnan(cantilever_overhang(strip)));
+  REQUIRE_FALSE(unmeasurable_target("bending_length", 0.001, 0.0, strip));
 }

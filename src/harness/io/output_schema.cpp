@@ -342,20 +342,30 @@ std::vector<OutputFile> fit_files() {
             {"parameter", "text",
              "the scenario key fitted, as --set takes it (engine.KEY: the engine's own key; "
              "a+b: both set to the value)"},
-            {"value", "as the key", "the fitted value: the best run's"},
+            {"value", "as the key", "the fitted value: the best run's; empty when no run was made"},
             {"metric", "text", "the target metric (a [test] metric or drape_coefficient)"},
             {"target", "as the metric", "the value asked for"},
             {"achieved", "as the metric",
              "the metric at the fitted values of every parameter of the engine; empty when no "
              "run gave it"},
             {"relative_error", "1", "(achieved - target) / |target|"},
-            {"runs", "count", "runs this fit made (its bracket and secant steps, and the check)"},
+            {"runs", "count",
+             "runs of the metric's scenario this fit made (its bracket and secant steps; a "
+             "joint fit's evaluations, each running every scenario of its targets once, a run made "
+             "before reused); 0 "
+             "when the target was found unreachable before any run"},
             {"sensitivity", "metric unit per parameter unit",
              "d metric / d parameter between the two runs nearest the fitted value; empty with "
-             "fewer than two runs that gave the metric"},
+             "fewer than two runs that gave the metric; a joint fit's: from its Jacobian at the "
+             "fitted values"},
+            {"sensitivities", "text",
+             "a joint fit (several targets on one engine): d metric / d each of its parameters "
+             "at the fitted values, KEY=VALUE separated by spaces; empty for a one-parameter "
+             "fit"},
             {"status", "text",
              "converged (within tolerance), unreachable (the target lies beyond what the "
-             "parameter's range or the engine's stability gives: value is the best reached), "
+             "parameter's range or the engine's stability gives, or several targets conflict: "
+             "value is the best reached; or the scenario cannot show it at any value: runs 0), "
              "budget (--max-runs spent), failed (no run gave the metric), no engine (the "
              "metric's scenario has no such engine)"}}}};
 }

@@ -23,6 +23,8 @@
 #include "harness/scenario/fabric_preset.hpp"
 #include "harness/scenario/scenario_loader.hpp"
 #include "harness/scenario/scenario_overrides.hpp"
+#include "harness/sweeps/fit_joint.hpp"
+#include "harness/sweeps/fit_reach.hpp"
 
 namespace clothbench {
 
@@ -47,6 +49,17 @@ std::vector<std::string> parameter_sets(const std::string& parameter, const std:
     sets.push_back((k.rfind(kEngineKey, 0) == 0 ? "engine." + engine + "." + k.substr(7) : k) +
                    "=" + cloth::toml_double(v));
   return sets;
+}
+
+/// True when scene key applies to the cloth of engine e in s: a per-direction structural key
+/// (structural_u, structural_v) only to a cloth with per-direction springs, the one structural
+/// key only to one without, any other key always. A fit of a strip's structural_u so leaves
+/// an isotropic cantilever's structural stiffness as it is, and the reverse.
+bool key_applies(const std::string& key, const EngineSpec& e, const Scenario& s) {
+  const bool per_direction =
+      key == "cloth.stiffness.structural_u" || key == "cloth.stiffness.structural_v";
+  if (!per_direction && key != "cloth.stiffness.structural") return true;
+  return engine_scene(s, e).cloth.anisotropic() == per_direction;
 }
 
 /// o with --fabric's preset set on every scenario (cloth.fabric), as the runs and fitted files
@@ -128,17 +141,32 @@ struct FitJob {
   std::vector<FitTarget> targets;       // the options' and the fabric's
   std::vector<size_t> target_scenario;  // per target, the scenario giving its metric
   FitOutcome outcome;
+  // every metric of each run made, by scenario, engine and --set texts: a run is made once
+  std::map<std::string, std::map<std::string, double>> memo;
+  int runs = 0;  // runs made
 };
 
-/// The metric of one run of engine on scenario k, with extra --set texts after the fitted ones.
-double measure(FitJob& job, size_t k, const std::string& engine, const std::string& metric,
-               const std::vector<std::string>& extra) {
+/// Every metric of one run of engine on scenario k (by name, NaN where the run gives none),
+/// with extra --set texts after the fitted ones. A run asked for again is not run again.
+const std::map<std::string, double>& measure_all(FitJob& job, size_t k, const std::string& engine,
+                                                 const std::vector<std::string>& extra) {
   std::vector<std::string> sets = job.o.overrides;
   for (const auto& [key, v] : job.outcome.fitted[engine]) {
     const auto more = parameter_sets(key, engine, v);
     sets.insert(sets.end(), more.begin(), more.end());
   }
   sets.insert(sets.end(), extra.begin(), extra.end());
+  // a structural key of the other form than scenario k's cloth is not set there
+  const Scenario& given = job.scenarios[k];
+  if (const EngineSpec* e = find_engine(given, engine))
+    sets.erase(std::remove_if(sets.begin(), sets.end(),
+                              [&](const std::string& set) {
+                                return !key_applies(set.substr(0, set.find('=')), *e, given);
+                              }),
+               sets.end());
+  std::string memo_key = std::to_string(k) + "\n" + engine;
+  for (const std::string& set : sets) memo_key += "\n" + set;
+  if (const auto it = job.memo.find(memo_key); it != job.memo.end()) return it->second;
   Scenario sc = load_scenario(job.o.scenarios[k], sets, {engine});
   // the engine alone: the reference runs only when it is the one fitted
   sc.engines.erase(std::remove_if(sc.engines.begin(), sc.engines.end(),
@@ -149,7 +177,19 @@ double measure(FitJob& job, size_t k, const std::string& engine, const std::stri
   ro.progress = false;
   ro.keep_positions = sc.test.kind == "strip-tensile";  // its curve reads every frame
   const RunResult r = run_scenario(sc, ro);
-  return engine_metric(r, r.runs.front(), metric).value_or(NAN);
+  ++job.runs;
+  std::map<std::string, double> values;
+  for (const std::string& name : metric_names(sc))
+    values[name] = engine_metric(r, r.runs.front(), name).value_or(NAN);
+  return job.memo[memo_key] = std::move(values);
+}
+
+/// One metric of one run (measure_all).
+double measure(FitJob& job, size_t k, const std::string& engine, const std::string& metric,
+               const std::vector<std::string>& extra) {
+  const std::map<std::string, double>& values = measure_all(job, k, engine, extra);
+  const auto it = values.find(metric);
+  return it == values.end() ? NAN : it->second;
 }
 
 /// The solver's options for target t of engine e (its parameter already in row).
@@ -195,8 +235,9 @@ void show_run(const FitJob& job, const FitRow& row, int n, double p, double m) {
   std::cerr << line << std::flush;
 }
 
-/// Fits target t on engine; the row says how.
-FitRow fit_one(FitJob& job, const std::string& engine, size_t t) {
+/// The row of target t on engine before any run: its parameter, or status "no engine", or
+/// "unreachable" when the scenario cannot show the target at any parameter (fit_reach.hpp).
+FitRow new_row(FitJob& job, const std::string& engine, size_t t) {
   const FitTarget& target = job.targets[t];
   FitRow row;
   row.engine = engine;
@@ -214,7 +255,22 @@ FitRow fit_one(FitJob& job, const std::string& engine, size_t t) {
   row.parameter =
       t < job.o.ranges.size() ? job.o.ranges[t].key : default_parameter(target.metric, *e, s);
   const FitSolverOptions so = solver_options(job, t, *e, row);
+  row.value = so.start;
+  const double tol = so.relative ? so.tolerance * std::abs(so.target) : so.tolerance;
+  if (const auto why = unmeasurable_target(row.metric, row.target, tol, s)) {
+    row.status = fit_status_name(FitStatus::unreachable);
+    row.note = *why;
+  }
+  return row;
+}
+
+/// Fits target t on engine alone by the monotone solver; fills row (from new_row).
+void fit_one(FitJob& job, FitRow& row, size_t t) {
+  const std::string& engine = row.engine;
+  const FitSolverOptions so =
+      solver_options(job, t, *find_engine(job.scenarios[row.scenario], engine), row);
   int n = 0;
+  const int runs_before = job.runs;
   const auto metric = [&](double p) {
     const double m =
         measure(job, row.scenario, engine, row.metric, parameter_sets(row.parameter, engine, p));
@@ -224,11 +280,10 @@ FitRow fit_one(FitJob& job, const std::string& engine, size_t t) {
   const FitResult r = solve_monotone(metric, so);
   row.value = r.parameter;
   row.achieved = r.metric;
-  row.runs = static_cast<int>(r.samples.size());
+  row.runs += job.runs - runs_before;
   row.sensitivity = r.sensitivity;
   row.status = fit_status_name(r.status);
   row.note = r.note;
-  return row;
 }
 
 /// The targets with the fabric's added for the metrics the scenarios give and targets lacks.
@@ -309,10 +364,6 @@ void keep_fitted(FitOutcome& outcome, const std::string& engine, const std::stri
 
 namespace {
 
-/// Passes over an engine's targets at most: a later target's fit can move an earlier one's
-/// metric, which the next pass fits again from there (coordinate descent over the parameters).
-constexpr int kFitPasses = 3;
-
 /// True when row's achieved metric is within the tolerance of its target.
 bool within(const FitOptions& o, const FitRow& row) {
   const double tol =
@@ -320,46 +371,167 @@ bool within(const FitOptions& o, const FitRow& row) {
   return std::abs(row.achieved - row.target) <= tol;
 }
 
-/// Fits every target on engine (see kFitPasses); appends its rows to the outcome.
-void fit_engine(FitJob& job, const std::string& engine) {
-  const FitOptions& o = job.o;
-  std::vector<FitRow> rows(job.targets.size());
-  std::vector<bool> todo(job.targets.size(), true);
-  for (int pass = 0; pass < kFitPasses; ++pass) {
-    for (size_t t = 0; t < job.targets.size(); ++t) {
-      if (!todo[t]) continue;
-      const int before = rows[t].runs;
-      rows[t] = fit_one(job, engine, t);
-      rows[t].runs += before;
-      if (rows[t].status != "no engine" && rows[t].status != "failed")
-        keep_fitted(job.outcome, engine, rows[t].parameter, rows[t].value);
-    }
-    std::fill(todo.begin(), todo.end(), false);
-    if (job.targets.size() < 2) break;
-    // each metric again at the engine's values now; a converged one moved off is fitted again
-    bool done = true;
-    for (FitRow& row : rows) {
-      const size_t t = size_t(&row - rows.data());
-      if (row.status == "no engine" || row.status == "failed") continue;
-      row.achieved = measure(job, row.scenario, engine, row.metric, {});
-      row.runs += 1;
-      todo[t] = row.status == "converged" && !within(o, row);
-      done = done && !todo[t];
-    }
-    if (done) break;
+/// The joint problem of rows[active] on one engine: its distinct parameters (each with the
+/// range and start of the first target naming it) and the targets' tolerances.
+JointFitOptions joint_options(FitJob& job, const std::vector<FitRow>& rows,
+                              const std::vector<size_t>& active) {
+  JointFitOptions jo;
+  std::vector<double> target, tolerance, start, lo, hi;
+  for (const size_t t : active) {
+    const FitRow& row = rows[t];
+    const FitSolverOptions so =
+        solver_options(job, t, *find_engine(job.scenarios[row.scenario], row.engine), row);
+    target.push_back(so.target);
+    tolerance.push_back(so.relative ? so.tolerance * std::abs(so.target) : so.tolerance);
+    if (std::find(jo.names.begin(), jo.names.end(), row.parameter) != jo.names.end()) continue;
+    jo.names.push_back(row.parameter);
+    start.push_back(so.start);
+    lo.push_back(so.lo > 0.0 ? so.lo : so.start / 1e4);
+    hi.push_back(std::isfinite(so.hi) ? so.hi : so.start * 1e4);
   }
-  for (size_t t = 0; t < rows.size(); ++t)
-    if (todo[t]) {
-      rows[t].status = "budget";
-      rows[t].note = "the engine's other fits keep moving it off its target";
+  const auto vec = [](const std::vector<double>& v) {
+    return Eigen::Map<const Eigen::VectorXd>(v.data(), Eigen::Index(v.size())).eval();
+  };
+  jo.target = vec(target);
+  jo.tolerance = vec(tolerance);
+  jo.start = vec(start);
+  jo.lo = vec(lo);
+  jo.hi = vec(hi);
+  jo.max_runs = job.o.max_runs;
+  return jo;
+}
+
+/// The --set texts of the joint problem's parameters at p (#N) on engine.
+std::vector<std::string> joint_sets(const JointFitOptions& jo, const std::string& engine,
+                                    const Eigen::VectorXd& p) {
+  std::vector<std::string> sets;
+  for (Eigen::Index j = 0; j < p.size(); ++j) {
+    const auto more = parameter_sets(jo.names[size_t(j)], engine, p[j]);
+    sets.insert(sets.end(), more.begin(), more.end());
+  }
+  return sets;
+}
+
+/// The progress line of one joint evaluation: the parameters, then each metric and target.
+void show_joint_run(const FitJob& job, const std::string& engine, const JointFitOptions& jo, int n,
+                    const Eigen::VectorXd& p, const std::vector<FitRow*>& rows,
+                    const Eigen::VectorXd& m) {
+  if (!job.o.progress) return;
+  std::ostringstream line;
+  line.precision(4);
+  line << "fit " << engine << " joint: run " << n << ",";
+  for (Eigen::Index j = 0; j < p.size(); ++j) line << " " << jo.names[size_t(j)] << " = " << p[j];
+  line << " ->";
+  for (size_t i = 0; i < rows.size(); ++i)
+    line << (i ? ", " : " ") << rows[i]->metric << " = " << m[Eigen::Index(i)] << " (target "
+         << rows[i]->target << ")";
+  std::cerr << line.str() << "\n" << std::flush;
+}
+
+/// Fits rows[active] of one engine together (fit_joint.hpp): one evaluation runs each of
+/// their scenarios once with every parameter set; fills the rows.
+void fit_joint(FitJob& job, std::vector<FitRow>& rows, const std::vector<size_t>& active) {
+  const std::string engine = rows[active.front()].engine;
+  const JointFitOptions jo = joint_options(job, rows, active);
+  std::vector<FitRow*> fit;
+  for (const size_t t : active) fit.push_back(&rows[t]);
+  int n = 0;
+  const auto metrics = [&](const Eigen::VectorXd& p) {
+    const std::vector<std::string> sets = joint_sets(jo, engine, p);
+    Eigen::VectorXd m(Eigen::Index(fit.size()));
+    for (size_t i = 0; i < fit.size(); ++i)
+      m[Eigen::Index(i)] = measure(job, fit[i]->scenario, engine, fit[i]->metric, sets);
+    show_joint_run(job, engine, jo, ++n, p, fit, m);
+    return m;
+  };
+  const JointFitResult r = solve_joint(metrics, jo);
+  for (size_t i = 0; i < fit.size(); ++i) {
+    FitRow& row = *fit[i];
+    const Eigen::Index j =
+        std::find(jo.names.begin(), jo.names.end(), row.parameter) - jo.names.begin();
+    row.value = r.parameters[j];
+    row.achieved = r.metrics[Eigen::Index(i)];
+    row.runs = int(r.samples.size());  // each a run of every scenario of the targets
+    row.sensitivity = r.sensitivity(Eigen::Index(i), j);
+    std::ostringstream all;
+    all.precision(17);
+    for (Eigen::Index k = 0; k < r.sensitivity.cols(); ++k)
+      if (std::isfinite(r.sensitivity(Eigen::Index(i), k)))
+        all << (all.tellp() > 0 ? " " : "") << jo.names[size_t(k)] << "="
+            << r.sensitivity(Eigen::Index(i), k);
+    row.sensitivities = all.str();
+    const bool met = std::isfinite(row.achieved) && within(job.o, row);
+    row.status = fit_status_name(met ? FitStatus::converged : r.status);
+    row.note = met ? "within tolerance" : r.note;
+  }
+}
+
+/// Runs engine at the joint fit's start for rows[active]; returns the targets whose metric has a
+/// value there (the joint fit's first runs, remembered); the others' rows say they had none.
+std::vector<size_t> given_at_start(FitJob& job, const std::string& engine,
+                                   std::vector<FitRow>& rows, const std::vector<size_t>& active) {
+  const JointFitOptions jo = joint_options(job, rows, active);
+  const std::vector<std::string> start = joint_sets(jo, engine, jo.start);
+  std::vector<size_t> given;
+  for (const size_t t : active) {
+    FitRow& row = rows[t];
+    const int before = job.runs;
+    row.achieved = measure(job, row.scenario, engine, row.metric, start);
+    row.runs = job.runs - before;
+    if (std::isfinite(row.achieved)) {
+      given.push_back(t);
+      continue;
     }
+    row.status = fit_status_name(FitStatus::failed);
+    row.note = "the engine gives no " + row.metric + " at the start";
+  }
+  return given;
+}
+
+/// Keeps the fitted value of every row of engine that has one.
+void keep_rows(FitJob& job, const std::string& engine, const std::vector<FitRow>& rows) {
+  for (const FitRow& row : rows)
+    if (!row.parameter.empty() && row.status != "failed" && row.runs > 0)
+      keep_fitted(job.outcome, engine, row.parameter, row.value);
+}
+
+/// Fits every target of engine: each one the scenario cannot show at all is unreachable at
+/// once; the rest, one alone by the monotone solver, several together by the joint solver. A
+/// target whose metric has no value at the joint fit's start (a cantilever too soft to measure)
+/// is fitted alone afterwards, from the joint fit's values, when its parameter is its own.
+void fit_engine(FitJob& job, const std::string& engine) {
+  std::vector<FitRow> rows;
+  std::vector<size_t> active, alone;
+  for (size_t t = 0; t < job.targets.size(); ++t) {
+    rows.push_back(new_row(job, engine, t));
+    if (rows.back().status.empty()) active.push_back(t);
+  }
+  if (active.size() >= 2) {
+    const std::vector<size_t> given = given_at_start(job, engine, rows, active);
+    for (const size_t t : active) {
+      const auto shares = [&](size_t g) { return rows[g].parameter == rows[t].parameter; };
+      if (rows[t].status == "failed" && std::none_of(given.begin(), given.end(), shares))
+        alone.push_back(t);
+    }
+    active = given;
+  }
+  if (active.size() == 1) fit_one(job, rows[active.front()], active.front());
+  if (active.size() >= 2) fit_joint(job, rows, active);
+  keep_rows(job, engine, rows);
+  // each left out alone, with the values fitted so far (the monotone solver finds a start)
+  for (const size_t t : alone) {
+    fit_one(job, rows[t], t);
+    if (rows[t].status != "failed")
+      rows[t].note += " (fitted alone after the others: they were not measured again)";
+    keep_rows(job, engine, {rows[t]});
+  }
   job.outcome.rows.insert(job.outcome.rows.end(), rows.begin(), rows.end());
 }
 
 }  // namespace
 
 FitOutcome run_fit(const FitOptions& o) {
-  FitJob job{with_fabric(o), {}, {}, {}, {}};
+  FitJob job{with_fabric(o), {}, {}, {}, {}, {}, 0};
   plan(job);
   for (const std::string& engine : engines_to_fit(job)) fit_engine(job, engine);
   return std::move(job.outcome);
@@ -418,6 +590,7 @@ std::string fitted_scenario_text(const std::string& path, const FitOptions& give
     own.is_inline(true);
     for (const auto& [parameter, v] : it->second)
       for (const std::string& key : parameter_keys(parameter)) {
+        if (!key_applies(key, s.engines[k], s)) continue;
         if (key.rfind(kEngineKey, 0) == 0)
           t.insert_or_assign(key.substr(7), v);
         else
@@ -439,7 +612,8 @@ void write_fit(const FitOptions& o, const FitOutcome& outcome, const std::string
   CsvWriter csv(staged.path() + "fit.csv", output_header("fit.csv"));
   for (const FitRow& r : outcome.rows) {
     csv.add(r.engine).add(r.parameter);
-    if (r.status == "no engine")
+    // no run, no value: the engine is missing or the target unreachable before any run
+    if (r.status == "no engine" || r.runs == 0)
       csv.skip();
     else
       csv.add(r.value);
@@ -455,7 +629,7 @@ void write_fit(const FitOptions& o, const FitOutcome& outcome, const std::string
       csv.add(r.sensitivity);
     else
       csv.skip();
-    csv.add(r.status).end_row();
+    csv.add(r.sensitivities).add(r.status).end_row();
   }
   std::filesystem::create_directories(staged.path() + "fitted");
   std::vector<std::unique_ptr<AtomicFile>> files;

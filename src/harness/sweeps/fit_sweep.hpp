@@ -1,8 +1,10 @@
 #pragma once
 /// @file fit_sweep.hpp
 /// clothbench fit: for each engine, the scene parameters (or the engine's own) that make its
-/// metrics hit their targets, one parameter per target metric, each found by the monotone
-/// solver (fit_solver.hpp) over runs of the scenario whose [test] gives the metric.
+/// metrics hit their targets, one parameter per target metric, over runs of the scenario whose
+/// [test] gives the metric: one target by the monotone solver (fit_solver.hpp), several on one
+/// engine together by the joint solver (fit_joint.hpp). A target the scenario cannot show at
+/// any parameter (fit_reach.hpp) is unreachable before any run.
 
 #include <map>
 #include <string>
@@ -38,7 +40,7 @@ struct FitOptions {
   std::string fabric;       // a preset of reference/fabrics/fabrics.toml: cloth.fabric of every
                             // scenario, and a target for each metric the fabric has a value of
                             // (fabric_targets) that targets does not name
-  int max_runs = 12;        // per engine and target
+  int max_runs = 12;        // per engine and target (a joint fit: evaluations)
   double tolerance = 0.03;  // relative; drape_coefficient: kDrapeTolerance, absolute
   bool progress = true;     // a line per run on stderr
 };
@@ -53,10 +55,12 @@ struct FitRow {
   std::string metric;
   double target = 0.0, achieved = 0.0;  // achieved NaN: no run gave the metric
   int runs = 0;
-  double sensitivity = 0.0;  // d metric / d parameter, NaN when unmeasured
-  std::string status;        // fit_status_name(), or "no engine"
-  std::string note;          // why it stopped, for the terminal
-  size_t scenario = 0;       // index into FitOptions::scenarios
+  double sensitivity = 0.0;   // d metric / d parameter, NaN when unmeasured
+  std::string sensitivities;  // a joint fit's d metric / d each of its parameters, as
+                              // "KEY=VALUE KEY=VALUE"; empty for a one-parameter fit
+  std::string status;         // fit_status_name(), or "no engine"
+  std::string note;           // why it stopped, for the terminal
+  size_t scenario = 0;        // index into FitOptions::scenarios
 };
 
 /// Everything a fit found.
