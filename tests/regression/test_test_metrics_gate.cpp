@@ -14,8 +14,14 @@ using Catch::Matchers::Contains;
 
 namespace {
 
-const std::map<std::string, Tolerance> kTol = {{"bending_length", {0.0, 0.01}},
-                                               {"chord_angle", {0.05, 0.0}}};
+/// Tolerances of two metrics: bending_length 1 % relative, chord_angle 0.05 absolute.
+Tolerances two_metrics() {
+  Tolerances t;
+  t.tests = {{"bending_length", {0.0, 0.01}}, {"chord_angle", {0.05, 0.0}}};
+  return t;
+}
+
+const Tolerances kTol = two_metrics();
 
 /// The one gate of engine e and quantity q.
 const Gate& gate_of(const std::vector<Gate>& gates, const std::string& e, const std::string& q) {
@@ -91,6 +97,21 @@ TEST_CASE("test metrics gate: undefined values, missing rows and metrics without
                  Contains("no tolerance") && Contains("[tests]"));
     REQUIRE(gate_of(g3, "a", "test.chord_angle").pass);
   }
+}
+
+TEST_CASE("test metrics gate: a metric ungated for one engine is shown with its reason",
+          "[regression]") {
+  Tolerances t = two_metrics();
+  t.ungated["chaotic"]["test.chord_angle"] = "contacts flip";
+  const TestValues base = {{"chaotic", {{"chord_angle", 41.0}}}, {"a", {{"chord_angle", 41.0}}}};
+  const TestValues now = {{"chaotic", {{"chord_angle", 45.0}}}, {"a", {{"chord_angle", 45.0}}}};
+  const std::vector<Gate> gates = gate_test_metrics("s", base, now, t);
+  const Gate& shown = gate_of(gates, "chaotic", "test.chord_angle");
+  REQUIRE_FALSE(shown.gated);
+  REQUIRE(shown.pass);
+  REQUIRE_THAT(shown.note, Contains("not gated: contacts flip"));
+  // the other engine's move is still gated
+  REQUIRE_FALSE(gate_of(gates, "a", "test.chord_angle").pass);
 }
 
 TEST_CASE("test metrics gate: a baseline tests.csv reads back what was written", "[regression]") {

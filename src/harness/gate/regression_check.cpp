@@ -773,7 +773,7 @@ std::vector<Gate> compare(const CheckPlan& plan, const CheckRun& now) {
   const TestValues base_tests =
       fs::exists(tests_path) ? read_test_values(tests_path) : TestValues();
   for (const Gate& g :
-       gate_test_metrics(plan.sc.name, base_tests, run_test_values(now.result), plan.tol.tests))
+       gate_test_metrics(plan.sc.name, base_tests, run_test_values(now.result), plan.tol))
     gates.add(g);
   return std::move(gates.gates());
 }

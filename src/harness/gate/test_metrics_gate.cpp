@@ -9,8 +9,7 @@
 namespace clothbench {
 
 std::vector<Gate> gate_test_metrics(const std::string& scenario, const TestValues& baseline,
-                                    const TestValues& now,
-                                    const std::map<std::string, Tolerance>& tolerances) {
+                                    const TestValues& now, const Tolerances& tolerances) {
   std::vector<Gate> gates;
   auto fail = [&](const std::string& engine, const std::string& q, double b, double v,
                   const std::string& why) {
@@ -35,13 +34,20 @@ std::vector<Gate> gate_test_metrics(const std::string& scenario, const TestValue
     for (const auto& [metric, v] : rows) {
       const std::string q = "test." + metric;
       const auto it = base->second.find(metric);
-      const auto tol = tolerances.find(metric);
+      const auto tol = tolerances.tests.find(metric);
       if (it == base->second.end()) {
         fail(engine, q, NAN, v, "not in the baseline (record it with --update)");
         continue;
       }
       const double b = it->second;
-      if (tol == tolerances.end()) {
+      // listed as not gated for this engine: shown with the reason
+      const auto listed = tolerances.ungated.find(engine);
+      if (listed != tolerances.ungated.end() && listed->second.count(q)) {
+        gates.push_back({scenario, engine, q, b, v, std::abs(v - b), NAN, true,
+                         "not gated: " + listed->second.at(q), "-", false});
+        continue;
+      }
+      if (tol == tolerances.tests.end()) {
         fail(engine, q, b, v, "no tolerance for " + metric + " in tolerances.toml [tests]");
         continue;
       }

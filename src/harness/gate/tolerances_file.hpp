@@ -10,7 +10,8 @@
 ///   [tests]
 ///   bending_length = { rel = 1e-9 }  # with the measured reason above it, as every line
 ///
-/// A scenario with a [test] needs a line for every metric its tests.csv has.
+/// A scenario with a [test] needs a line for every metric its tests.csv has; [ungated.<engine>]
+/// may list a test metric as "test.<metric>".
 ///
 /// An engine whose result on a chaotic scene no single run reproduces is gated by the
 /// distribution of its results instead:
