@@ -510,7 +510,8 @@ TEST_CASE("a cantilever test writes tests.csv, and a run without one leaves none
   write_run(run_scenario(sc, o), dir.string());
   const Csv tests = read_csv(dir / "tests.csv");
   CHECK(tests.header == std::vector<std::string>{"engine", "metric", "value", "unit"});
-  REQUIRE(tests.rows.size() == 6);
+  // six of the fixed overhang, three of the standard's rule (the scene asks for it)
+  REQUIRE(tests.rows.size() == 9);
   std::map<std::string, double> value;
   for (const auto& row : tests.rows) {
     CHECK(row[0] == "custom-rk4");
@@ -524,9 +525,15 @@ TEST_CASE("a cantilever test writes tests.csv, and a run without one leaves none
   // flexural rigidity = areal density x g x c^3 (200 g/m^2, g = 9.8 m/s^2)
   CHECK(value["flexural_rigidity"] ==
         Approx(0.2 * 9.8 * std::pow(value["bending_length"], 3)).epsilon(1e-9));
-  // a scenario without [test] owns the file too: the older run's tests.csv goes
+  // the standard's c is half its overhang, shorter than the scene's, and every settle is listed
+  CHECK(value["bending_length_standard"] == Approx(value["standard_overhang"] / 2));
+  CHECK(value["standard_overhang"] < 0.1);
+  const Csv settles = read_csv(dir / "overhangs.csv");
+  CHECK(double(settles.rows.size()) == value["standard_settles"]);
+  // a scenario without [test] owns the files too: the older run's tests.csv goes
   write_run(run_small(), dir.string());
   CHECK_FALSE(fs::exists(dir / "tests.csv"));
+  CHECK_FALSE(fs::exists(dir / "overhangs.csv"));
 }
 
 TEST_CASE("a drape test's coefficient in tests.csv is summary.csv's, and its folds are counted",

@@ -16,12 +16,14 @@
 #include <stdexcept>
 
 #include "harness/gate/ensemble_gate.hpp"
+#include "harness/gate/test_metrics_gate.hpp"
 #include "harness/gate/tolerances_file.hpp"
 #include "harness/io/csv_reader.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/text_file.hpp"
 #include "harness/io/user_error.hpp"
+#include "harness/run/engine_metric.hpp"
 #include "harness/run/run_parallel.hpp"
 #include "harness/run/runner.hpp"
 #include "harness/scenario/scenario_loader.hpp"
@@ -85,6 +87,15 @@ std::map<std::string, double> run_metrics(const RunResult& r, size_t i) {
           {"max_rms_vs_reference", d.empty() ? NAN : worst},
           {"drape_coefficient", final_drape_coefficient(r, run)},
           {"final_com_y", run.frames.back().com.y()}};
+}
+
+// every engine's [test] metrics (tests.csv), none for a scenario without a [test]
+TestValues run_test_values(const RunResult& r) {
+  TestValues values;
+  for (const EngineRun& run : r.runs)
+    for (const TestMetric& row : test_metrics(r, run))
+      values[run.spec.name][row.metric] = row.value;
+  return values;
 }
 
 using Metrics = std::map<std::string, double>;  // by "engine/quantity"
@@ -225,6 +236,15 @@ void write_baseline(const fs::path& dir, const RunResult& result,
   }
   pending.add(std::move(metrics));
   pending.add(std::move(shape));
+  // the [test]'s metrics, gated by tolerances.toml's [tests]
+  const fs::path tests = dir / "tests.csv";
+  if (result.scenario.test.kind.empty()) {
+    pending.remove_on_commit(tests.string());
+  } else {
+    auto w = std::make_unique<CsvWriter>(tests.string(), output_header("baselines/tests.csv"));
+    write_test_values(run_test_values(result), *w);
+    pending.add(std::move(w));
+  }
   if (stability) {
     auto st = std::make_unique<CsvWriter>((dir / "stability.csv").string(), kStabilityHeader);
     for (const StabilityRow& r : *stability)
@@ -322,6 +342,10 @@ final_rms_vs_reference = { rel = 1e-3, abs = 1e-9 }
 max_rms_vs_reference = { rel = 1e-3, abs = 1e-9 }
 final_com_y = { abs = 1e-6 }
 drape_coefficient = { abs = 1e-4 }
+
+# with a [test]: one line per metric of its tests.csv (check names the missing ones), e.g.
+# [tests]
+# bending_length = { rel = 1e-6 }
 )";
 
 }  // namespace
@@ -445,6 +469,7 @@ CheckPlan plan_check(const std::string& scenario_path, const CheckOptions& o) {
   check_tolerance_engines(plan.tol, plan.sc, tol_path);
   // a damaged baseline is an error before any run, not a failing gate after it
   if (!o.update && fs::exists(plan.metrics_path())) read_metrics(plan.metrics_path());
+  if (!o.update && fs::exists(plan.dir / "tests.csv")) read_test_values(plan.dir / "tests.csv");
   return plan;
 }
 
@@ -479,6 +504,28 @@ CheckRun run_check(const CheckPlan& plan, const CheckOptions& o) {
   return now;
 }
 
+/// What --update changed in the test metrics: new, updated and removed rows.
+void test_changes(const std::string& scenario, const TestValues& before, const TestValues& after,
+                  std::vector<Gate>& gates) {
+  auto same = [](double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); };
+  for (const auto& [engine, rows] : after)
+    for (const auto& [metric, v] : rows) {
+      const auto e = before.find(engine);
+      const bool had = e != before.end() && e->second.count(metric);
+      const double b = had ? e->second.at(metric) : NAN;
+      if (!had || !same(b, v))
+        gates.push_back({scenario, engine, "test." + metric, b, v, std::abs(v - b), NAN, true,
+                         had ? "updated" : "new", "-"});
+    }
+  for (const auto& [engine, rows] : before)
+    for (const auto& [metric, b] : rows) {
+      const auto e = after.find(engine);
+      if (e == after.end() || !e->second.count(metric))
+        gates.push_back(
+            {scenario, engine, "test." + metric, b, NAN, NAN, NAN, true, "removed", "-"});
+    }
+}
+
 /// --update: records the baseline and reports what changed against the previous one.
 std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now, const CheckOptions& o) {
   const Metrics old_metrics =
@@ -497,11 +544,14 @@ std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now, const Check
   const fs::path ens_path = plan.dir / "metrics_ensemble.csv";
   const EnsembleValues old_ensemble =
       fs::exists(ens_path) ? read_ensemble(ens_path.string()) : EnsembleValues();
+  const fs::path tests_path = plan.dir / "tests.csv";
+  const TestValues old_tests = fs::exists(tests_path) ? read_test_values(tests_path) : TestValues();
   write_baseline(plan.dir, now.result, plan.tol.stability ? &now.stability : nullptr, now.ensemble,
                  o.pending ? *o.pending : own);
   own.commit();
   std::vector<Gate> gates =
       changes(plan.sc.name, old_metrics, old_shapes, old_brackets, now.result, now.brackets);
+  test_changes(plan.sc.name, old_tests, run_test_values(now.result), gates);
   for (const auto& [key, v] : now.ensemble) {
     const auto it = old_ensemble.find(key);
     if (it == old_ensemble.end() || it->second != v)
@@ -718,6 +768,13 @@ std::vector<Gate> compare(const CheckPlan& plan, const CheckRun& now) {
   compare_shapes(shapes, recorded, plan.tol, now.result, ensembles_ran, gates);
   if (ensembles_ran) compare_ensembles(plan, now, recorded, gates);
   compare_stability(plan, now.brackets, gates);
+  // the [test]'s metrics: recorded or measured on either side
+  const fs::path tests_path = plan.dir / "tests.csv";
+  const TestValues base_tests =
+      fs::exists(tests_path) ? read_test_values(tests_path) : TestValues();
+  for (const Gate& g :
+       gate_test_metrics(plan.sc.name, base_tests, run_test_values(now.result), plan.tol))
+    gates.add(g);
   return std::move(gates.gates());
 }
 

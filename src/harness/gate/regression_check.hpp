@@ -10,10 +10,13 @@
 ///   stability.csv    the stability limits (when tolerances.toml has a [stability] table)
 ///   metrics_ensemble.csv  the members' values of the quantities gated by an ensemble (when it
 ///                    has [ensemble.<engine>] tables; ensemble_gate.hpp)
+///   tests.csv        every engine's [test] metrics (when the scenario has a [test]), gated
+///                    by tolerances.toml's [tests] table (test_metrics_gate.hpp)
 /// (their columns: io/output_schema.cpp, printed by `clothbench schema --outputs`)
 ///
-/// Every engine and stability row on either side is gated: one recorded in the baseline that
-/// did not run now fails, and so does one that ran without a baseline.
+/// Every engine, stability and test metric row on either side is gated: one recorded in the
+/// baseline that did not run (or was not measured) now fails, and so does one that ran without
+/// a baseline.
 
 #include <memory>
 #include <string>

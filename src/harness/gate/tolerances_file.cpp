@@ -117,7 +117,9 @@ void read_ungated_table(const fs::path& p, const toml::table& u,
     const std::string reason = (*e)["reason"].value_or(std::string());
     if (reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
     for (const std::string& q : strings_at(p, (*e)["quantities"], where + ".quantities")) {
-      if (std::find(known.begin(), known.end(), q) == known.end())
+      // a [test] metric is named test.<metric>; which ones a scenario has, check knows
+      const bool test_metric = q.rfind("test.", 0) == 0 && q.size() > 5;
+      if (!test_metric && std::find(known.begin(), known.end(), q) == known.end())
         throw UserError(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
       t.ungated[engine][q] = reason;
     }
@@ -157,6 +159,22 @@ void read_ensemble_table(const fs::path& p, const toml::table& u,
   }
 }
 
+/// [tests]: { abs, rel } per metric of tests.csv.
+void read_tests_table(const fs::path& p, const toml::table& root, Tolerances& t) {
+  const toml::table* tests = root["tests"].as_table();
+  if (!tests)
+    throw UserError(where_in(p, *root.get("tests"), "tests") +
+                    "expected a table [tests] of metric = { abs = ..., rel = ... }");
+  for (const auto& [key, node] : *tests) {
+    const std::string name = "tests." + std::string(key.str());
+    const toml::table* tab = node.as_table();
+    if (!tab) throw UserError(where_in(p, node, name) + "expected { abs = ..., rel = ... }");
+    require_known_keys(p, *tab, name + ".", {"abs", "rel"});
+    t.tests[std::string(key.str())] = {non_negative(p, *tab, "abs", name + ".", 0.0),
+                                       non_negative(p, *tab, "rel", name + ".", 0.0)};
+  }
+}
+
 }  // namespace
 
 Tolerances read_tolerances(const fs::path& p) {
@@ -177,7 +195,8 @@ Tolerances read_tolerances(const fs::path& p) {
   known.push_back("final_shape_rms");
   for (const auto& [key, node] : root) {
     const std::string name(key.str());
-    if (name == "stability" || name == "ungated" || name == "ensemble" || name == "mirror")
+    if (name == "stability" || name == "ungated" || name == "ensemble" || name == "mirror" ||
+        name == "tests")
       continue;
     if (std::find(known.begin(), known.end(), name) == known.end())
       throw UserError(where_in(p, node, name) + "unknown quantity");
@@ -198,6 +217,7 @@ Tolerances read_tolerances(const fs::path& p) {
                       "expected tables [ensemble.<engine>] with members = N (N >= 2)");
     read_ensemble_table(p, *e, known, t);
   }
+  if (root.contains("tests")) read_tests_table(p, root, t);
   if (const toml::table* m = root["mirror"].as_table()) {
     require_known_keys(p, *m, "mirror.", {"engines"});
     for (const std::string& e : strings_at(p, (*m)["engines"], "mirror.engines"))

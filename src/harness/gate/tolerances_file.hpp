@@ -3,8 +3,15 @@
 /// A baseline's tolerances.toml, hand-written: how far each quantity of metrics.csv may move
 /// ({ abs, rel } each, with its reason), which stability searches are gated ([stability]),
 /// which quantities are not gated for an engine and why ([ungated.<engine>]), which are gated
-/// by an ensemble ([ensemble.<engine>]), and which engines' shapes are compared up to the
-/// scene's mirror image ([mirror]).
+/// by an ensemble ([ensemble.<engine>]), which engines' shapes are compared up to the
+/// scene's mirror image ([mirror]), and how far each metric of the scenario's textile standard
+/// test (tests.csv) may move ([tests], test_metrics_gate.hpp):
+///
+///   [tests]
+///   bending_length = { rel = 1e-9 }  # with the measured reason above it, as every line
+///
+/// A scenario with a [test] needs a line for every metric its tests.csv has; [ungated.<engine>]
+/// may list a test metric as "test.<metric>".
 ///
 /// An engine whose result on a chaotic scene no single run reproduces is gated by the
 /// distribution of its results instead:
@@ -59,6 +66,8 @@ struct Tolerances {
   std::map<std::string, Ensemble> ensemble;
   // [mirror]: engines whose final shape is compared up to the scene's mirror image
   std::set<std::string> mirrored;
+  // [tests]: how far each metric of tests.csv may move, by metric name
+  std::map<std::string, Tolerance> tests;
 };
 
 /// The quantities of metrics.csv, in the order they are gated.

@@ -132,6 +132,25 @@ std::vector<OutputFile> run_files() {
          "apart, capped at half the mean rest edge length; empty when a position is not finite"}}}};
 }
 
+// the cantilever standard's sequence of overhangs
+OutputFile overhangs_file() {
+  return {"overhangs.csv",
+          "clothbench run, in the run folder, when the scenario's cantilever [test] has "
+          "overhang_rule = \"standard\"",
+          "one settled run of one engine's sequence of overhangs towards 41.5 degrees, in the "
+          "order run (the first is the scene's own overhang, the scenario's run itself)",
+          {kEngine,
+           {"edge", "m", "rest x of the last held column (the clamp)"},
+           {"overhang", "m", "rest length from the clamp to the tip"},
+           {"chord_angle", "deg",
+            "the chord's angle below the horizontal at the run's end; empty when it blew up"},
+           {"settle_change", "deg", "chord angle at the end minus at nine tenths of the run"},
+           {"settled", "1", "1 when stable and |settle_change| <= 0.05 degrees"},
+           {"bracket", "1",
+            "1 for the two neighbouring overhangs that bracket 41.5 degrees, between which "
+            "standard_overhang interpolates the chord angle linearly"}}};
+}
+
 // the run's comparisons: each engine against the reference, its shapes, the attribution
 std::vector<OutputFile> comparison_files() {
   return {{"tests.csv",
@@ -140,7 +159,10 @@ std::vector<OutputFile> comparison_files() {
            {kEngine,
             {"metric", "text",
              "cantilever: chord_angle, tip_deflection, overhang, bending_length (the elastica's), "
-             "bending_length_peirce, flexural_rigidity; drape: drape_coefficient, folds (local "
+             "bending_length_peirce, flexural_rigidity, and with overhang_rule = \"standard\" "
+             "standard_overhang (where the chord reaches 41.5 degrees), bending_length_standard "
+             "(half of it) and standard_settles (the runs it took, overhangs.csv); drape: "
+             "drape_coefficient, folds (local "
              "maxima of the outline's radius around the support's axis, smoothed over 10 "
              "degrees), min_radius and max_radius of that smoothed outline; strip-tensile: "
              "tensile_stiffness, fit_strain, max_strain, max_force_per_width"},
@@ -148,7 +170,7 @@ std::vector<OutputFile> comparison_files() {
              "the metric's value; empty when undefined (the run blew up, "
              "a chord angle the elastica cannot invert, fewer than 3 frames in a tensile fit, "
              "or an engine whose forces are not the scene's springs)"},
-            {"unit", "text", "the value's unit: deg, m, N m, N/m or 1"}}},
+            {"unit", "text", "the value's unit: deg, m, N m, N/m, 1 or count"}}},
           {"tensile.csv",
            "clothbench run, in the run folder, when the scenario's [test] is a strip-tensile",
            "one frame of one custom engine's force-strain curve (the other engines' forces are "
@@ -161,6 +183,7 @@ std::vector<OutputFile> comparison_files() {
             {"force_per_width", "N/m",
              "the springs' elastic tension across the strip's central section at the engine's "
              "positions, along the test's direction, over the strip's rest width"}}},
+          overhangs_file(),
           {"divergence.csv",
            "clothbench run, in the run folder",
            "one engine other than the reference at one frame both logged",
@@ -310,7 +333,14 @@ std::vector<OutputFile> baseline_files() {
              "the ensemble-gated quantity; growth_exponent: ln(|dX(T)| / |dX(0)|) / T (1/s) "
              "between members 0 and 1"},
             {"member", "count", "ensemble member, 0 the unperturbed scene"},
-            {"value", "the quantity's", "the member's value"}}}};
+            {"value", "the quantity's", "the member's value"}}},
+          {"baselines/tests.csv",
+           where,
+           "one metric of the scenario's [test] on one engine (scenarios with a [test]), gated "
+           "by tolerances.toml's [tests] table",
+           {kEngine,
+            {"metric", "text", "the metric, a row of the run's tests.csv"},
+            {"value", "the metric's", "its recorded value; empty when undefined"}}}};
 }
 
 std::string json_string(const std::string& s) {

@@ -82,6 +82,10 @@ std::vector<TestMetric> test_metrics(const RunResult& result, const EngineRun& r
       test_rows(result, run, settled ? run.snapshots.back() : result.model.x0);
   for (TestMetric& row : rows)
     if (!settled || !std::isfinite(row.value)) row.value = NAN;
+  // the standard's overhang, from the engine's sequence of settles
+  for (size_t i = 0; i < result.overhangs.size() && i < result.runs.size(); ++i)
+    if (&result.runs[i] == &run || result.runs[i].spec.name == run.spec.name)
+      for (const TestMetric& row : standard_rows(result.overhangs[i])) rows.push_back(row);
   return rows;
 }
 
@@ -101,6 +105,8 @@ std::vector<std::string> metric_names(const Scenario& s) {
   // the rows a [test] writes, whatever their values
   if (s.test.kind == "cantilever")
     for (const TestMetric& row : cantilever_rows(CantileverMetrics{})) names.push_back(row.metric);
+  if (s.test.kind == "cantilever" && s.test.overhang_rule == "standard")
+    for (const TestMetric& row : standard_rows(OverhangSequence{})) names.push_back(row.metric);
   if (s.test.kind == "strip-tensile")
     for (const TestMetric& row : tensile_rows({}, s.test.fit_strain)) names.push_back(row.metric);
   if (s.test.kind == "drape") {

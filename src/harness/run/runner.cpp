@@ -23,6 +23,7 @@
 #include "harness/run/engine_metric.hpp"
 #include "harness/run/ensemble_member.hpp"
 #include "harness/run/mesh_file.hpp"
+#include "harness/run/overhang_sequence.hpp"
 #include "harness/run/run_books.hpp"
 #include "harness/run/trajectory_files.hpp"
 #include "harness/scenario/engine_refusal.hpp"
@@ -267,6 +268,21 @@ EngineRun run_engine(const Scenario& sc, const EngineSpec& spec, const cloth::Mo
   return run_engine_on(sc, spec, cloth::build_model(*spec.scene), progress, keep_positions);
 }
 
+namespace {
+
+/// Each engine's sequence of overhangs (overhang_sequence.hpp), into result.overhangs.
+void run_overhang_sequences(const Scenario& sc, RunResult& result, Progress& progress) {
+  for (const EngineRun& run : result.runs) {
+    result.overhangs.push_back(standard_overhang_sequence(sc, result.model, run));
+    const OverhangSequence& q = result.overhangs.back();
+    progress.line(run.spec.name + ": standard overhang " + format_double(q.overhang) +
+                  " m (c = " + format_double(q.bending_length) + " m) after " +
+                  std::to_string(q.runs.size()) + " settles");
+  }
+}
+
+}  // namespace
+
 RunResult run_scenario(const Scenario& unperturbed, const RunOptions& options) {
   Scenario sc = unperturbed;
   sc.scene = perturbed_scene(sc.scene, options.member, options.member_seed);
@@ -325,6 +341,9 @@ RunResult run_scenario(const Scenario& unperturbed, const RunOptions& options) {
     progress.line(msg.str());
     result.runs.push_back(std::move(run));
   }
+  // the standard's sequence of overhangs, one engine after another
+  if (sc.test.kind == "cantilever" && sc.test.overhang_rule == "standard")
+    run_overhang_sequences(sc, result, progress);
   // divergence of every engine from the reference, frame by frame while both ran
   const EngineRun& r = result.runs[static_cast<size_t>(result.reference)];
   for (const EngineRun& run : result.runs) {
@@ -529,6 +548,20 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
   }
 }
 
+/// overhangs.csv: every settle of each engine's sequence of overhangs, in the order run.
+void write_overhangs(const RunResult& result, CsvWriter& out) {
+  for (size_t i = 0; i < result.overhangs.size(); ++i)
+    for (const OverhangRun& r : result.overhangs[i].runs)
+      out.add(result.runs[i].spec.name)
+          .add(r.edge)
+          .add(r.overhang)
+          .add(r.chord_angle)
+          .add(r.settle_change)
+          .add(r.settled ? 1 : 0)
+          .add(r.bracket ? 1 : 0)
+          .end_row();
+}
+
 /// tests.csv: the [test]'s metrics of every engine (empty values where undefined, e.g. for a
 /// run that did not end stable: its final shape is not a settled one); tensile.csv, when given,
 /// the strip-tensile curves.
@@ -599,6 +632,11 @@ void write_run_files(const RunResult& result, const std::string& dir) {
     tests = std::make_unique<CsvWriter>(dir + "tests.csv", output_header("tests.csv"));
     write_tests(result, *tests, tensile.get());
   }
+  std::unique_ptr<CsvWriter> overhangs;
+  if (!result.overhangs.empty()) {
+    overhangs = std::make_unique<CsvWriter>(dir + "overhangs.csv", output_header("overhangs.csv"));
+    write_overhangs(result, *overhangs);
+  }
   std::vector<std::unique_ptr<AtomicFile>> trajectory;
   write_trajectories(result, dir, trajectory);
   // a mesh's triangles, for the report's shapes
@@ -615,6 +653,7 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   info.commit();
   if (tests) tests->commit();
   if (tensile) tensile->commit();
+  if (overhangs) overhangs->commit();
   for (auto& f : trajectory) f->commit();
 }
 
@@ -627,6 +666,7 @@ void write_run(const RunResult& result, const std::string& out) {
   staged.owns("mesh.obj");
   staged.owns("tests.csv");  // the new run's [test] metrics, or none
   staged.owns("tensile.csv");
+  staged.owns("overhangs.csv");  // the new run's sequence of overhangs, or none
   try {
     write_run_files(result, staged.path());
   } catch (const UserError& e) {

@@ -9,6 +9,7 @@
 
 #include "cloth/model/model.hpp"
 #include "cloth/model/simulator.hpp"
+#include "harness/fabric/standard_overhang.hpp"
 #include "harness/run/metrics.hpp"
 #include "harness/run/progress.hpp"
 #include "harness/scenario/scenario.hpp"
@@ -51,6 +52,8 @@ struct RunResult {
   std::vector<EngineRun> runs;
   int reference = 0;                                // index into runs
   std::vector<std::vector<Divergence>> divergence;  // per run, per common frame
+  std::vector<OverhangSequence> overhangs;          // per run, the cantilever standard's sequence
+                                            // ([test] overhang_rule = "standard"; else empty)
 };
 
 /// Set from a signal handler to stop a run at the next frame (Interrupted is thrown).
@@ -79,8 +82,9 @@ constexpr double kEnergyCheckInterval = 0.01;
 
 /// Runs the scenario's engines (all engines are built first, so a bad one fails before any
 /// work), on the scene of ensemble member options.member (ensemble_member.hpp; the result's
-/// scenario and model are that member's). Throws std::invalid_argument for an engine filter naming
-/// no engine.
+/// scenario and model are that member's), then with [test] overhang_rule = "standard" each
+/// engine's sequence of overhangs (overhang_sequence.hpp). Throws std::invalid_argument for an
+/// engine filter naming no engine.
 RunResult run_scenario(const Scenario& sc, const RunOptions& options);
 
 /// Writes frames.csv, divergence.csv, snapshots.csv, summary.csv, scenario.toml and run.json

@@ -82,6 +82,8 @@ struct TestSpec {
   double edge = 0.0;            // m, cantilever: the platform's edge along x
   std::string direction = "u";  // strip-tensile: the grid axis pulled along, "u" or "v"
   double fit_strain = 0.01;     // 1, strip-tensile: the strain range (0, fit_strain] of the slope
+  std::string overhang_rule = "fixed";  // cantilever: "fixed" (the scene's overhang alone) or
+                                        // "standard" (the sequence of overhangs to 41.5 deg)
 };
 
 /// Everything a run needs; every key of the scenario file has a field here, and so has the

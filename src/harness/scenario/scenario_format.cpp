@@ -40,7 +40,8 @@ const Keys kClothKeys = {"particles",        "size",       "center",        "pla
 const Keys kBendModels = {"springs", "hinge"};
 const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size", "length",
                             "edge_length", "seed",   "center",       "plane"};
-const Keys kTestKeys = {"kind", "edge", "direction", "fit_strain"};
+const Keys kTestKeys = {"kind", "edge", "direction", "fit_strain", "overhang_rule"};
+const Keys kOverhangRules = {"fixed", "standard"};
 const Keys kTensileDirections = {"u", "v"};
 const Keys kTestKinds = {"cantilever", "drape", "strip-tensile", "bias-extension"};
 const Keys kStiffnessKeys = {"structural", "shear", "bend", "structural_u", "structural_v"};

@@ -41,6 +41,7 @@ extern const Keys kEngineCommonKeys;  // keys every [[engine]] may have
 // and solver options, the Bullet options, the engine kinds) or here (planes, contact modes,
 // selections), and listed from there
 extern const Keys kTensileDirections;  // [test] direction of a strip-tensile test
+extern const Keys kOverhangRules;      // [test] overhang_rule of a cantilever test
 extern const Keys kTestKinds;          // [test] kind, the ones not yet measured included
 extern const Keys kPlanes;
 extern const Keys kSelections;

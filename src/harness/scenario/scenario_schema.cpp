@@ -169,6 +169,11 @@ void test_keys(std::vector<ScenarioKey>& out) {
   r.number("fit_strain", "1", t.fit_strain, kPositive,
            "strip-tensile: tensile_stiffness is the least-squares slope of force per width "
            "against strain over the frames with 0 < strain <= fit_strain");
+  r.choice("overhang_rule", quoted(t.overhang_rule), kOverhangRules,
+           "cantilever: \"fixed\" measures the scene's overhang alone; \"standard\" also finds "
+           "the overhang at which the settled chord angle reaches 41.5 degrees (ASTM D1388, BS "
+           "3356) by a sequence of settled runs with the held edge moved column by column, and "
+           "reports c = l / 2 there (bending_length_standard, overhangs.csv)");
 }
 
 void generate_keys(std::vector<ScenarioKey>& out) {

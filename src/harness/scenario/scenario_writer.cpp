@@ -212,6 +212,8 @@ std::string scenario_to_toml(const Scenario& s) {
   write_colliders(o, s);
   if (!s.test.kind.empty()) o << "\n[test]\nkind = " << toml_string(s.test.kind) << "\n";
   if (s.test.kind == "cantilever") o << "edge = " << d(s.test.edge) << "  # m\n";
+  if (s.test.kind == "cantilever" && s.test.overhang_rule != "fixed")
+    o << "overhang_rule = " << toml_string(s.test.overhang_rule) << "\n";
   if (s.test.kind == "strip-tensile")
     o << "direction = " << toml_string(s.test.direction)
       << "\nfit_strain = " << d(s.test.fit_strain) << "\n";

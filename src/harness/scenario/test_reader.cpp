@@ -54,7 +54,7 @@ void check_cantilever(const Reader& r, const toml::table& t, const toml::table& 
 /// weight.
 void check_drape(const Reader& r, const toml::table& t, const toml::table& root,
                  const Scenario& s) {
-  for (const char* key : {"edge", "direction", "fit_strain"})
+  for (const char* key : {"edge", "direction", "fit_strain", "overhang_rule"})
     if (t.get(key))
       r.fail(t.get(key), std::string("test.") + key,
              std::string("expected no ") + key + " with a drape test (it is another test's key)");
@@ -140,6 +140,10 @@ void read_test(const Reader& r, const toml::table& root, Scenario& s) {
   s.test.edge = r.number(at, "edge", s.test.edge, kAnyNumber);
   s.test.direction = r.choice(at, "direction", s.test.direction, kTensileDirections);
   s.test.fit_strain = r.number(at, "fit_strain", s.test.fit_strain, kPositive);
+  s.test.overhang_rule = r.choice(at, "overhang_rule", s.test.overhang_rule, kOverhangRules);
+  if (s.test.kind != "cantilever" && t->get("overhang_rule"))
+    r.fail(t->get("overhang_rule"), "test.overhang_rule",
+           "expected no overhang_rule with a " + s.test.kind + " test (it is the cantilever's)");
   if (s.test.kind == "cantilever")
     check_cantilever(r, *t, root, s);
   else
