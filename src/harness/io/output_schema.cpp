@@ -138,12 +138,33 @@ std::vector<OutputFile> comparison_files() {
              "bending_length_peirce, flexural_rigidity; drape: drape_coefficient, folds (local "
              "maxima of the outline's radius around the support's axis, smoothed over 10 "
              "degrees), min_radius and max_radius of that smoothed outline; strip-tensile: "
-             "tensile_stiffness, fit_strain, max_strain, max_force_per_width"},
+             "tensile_stiffness, fit_strain, max_strain, max_force_per_width; bias-extension: "
+             "shear_stiffness, fit_angle, final_shear_angle (measured), "
+             "final_shear_angle_pin_jointed, max_force"},
             {"value", "as unit",
              "the metric's value; empty when undefined (the run blew up, "
              "a chord angle the elastica cannot invert, fewer than 3 frames in a tensile fit, "
              "or an engine whose forces are not the scene's springs)"},
-            {"unit", "text", "the value's unit: deg, m, N m, N/m or 1"}}},
+            {"unit", "text", "the value's unit: deg, m, N, N m, N/m, N/m/rad or 1"}}},
+          {"bias.csv",
+           "clothbench run, in the run folder, when the scenario's [test] is a bias-extension",
+           "one frame of one engine's bias-extension curve (force and shear force for the custom "
+           "engines alone: the other engines' forces are not the scene's springs)",
+           {kEngine,
+            kT,
+            {"displacement", "m", "the handle's prescribed displacement d along x"},
+            {"force", "N",
+             "the springs' elastic force along x across the specimen's central section (the "
+             "clamp force, quasi-static); empty for a non-custom engine"},
+            {"angle_pin_jointed", "rad",
+             "the central zone's shear angle of the pin-jointed net at d: pi/2 - 2 acos[(H - W "
+             "+ d) / (sqrt(2) (H - W))] (Cao et al. 2008)"},
+            {"angle", "rad",
+             "the central zone's shear angle measured from its particles: pi/2 less the angle "
+             "between the deformed yarn directions of its least-squares affine map"},
+            {"shear_force", "N/m",
+             "shear force per unit length at the measured angle, normalised by the zones' "
+             "energy balance (docs/methods.md); empty for a non-custom engine"}}},
           {"tensile.csv",
            "clothbench run, in the run folder, when the scenario's [test] is a strip-tensile",
            "one frame of one custom engine's force-strain curve (the other engines' forces are "

@@ -179,6 +179,8 @@ void write_cloth(std::ostream& o, const Scenario& s) {
     << "seed = " << g.seed << "\n"
     << "center = " << vec3(g.center) << "  # m\n"
     << "plane = " << toml_string(plane_name(g.plane)) << "\n";
+  if (g.lattice == cloth::MeshLattice::grid)
+    o << "lattice = \"grid\"\nlattice_angle = " << d(g.lattice_angle) << "  # degrees\n";
 }
 
 }  // namespace
@@ -215,6 +217,7 @@ std::string scenario_to_toml(const Scenario& s) {
   if (s.test.kind == "strip-tensile")
     o << "direction = " << toml_string(s.test.direction)
       << "\nfit_strain = " << d(s.test.fit_strain) << "\n";
+  if (s.test.kind == "bias-extension") o << "fit_angle = " << d(s.test.fit_angle) << "  # degrees\n";
 
   for (const EngineSpec& e : s.engines) {
     o << "\n[[engine]]\n"
