@@ -99,21 +99,20 @@ TEST_CASE("the normalised shear force of a linear net gives back its shear stiff
   // the energy balance run forward: a net of torque T = G gamma per unit area, F_s = T / cos,
   // clamp force F = [W (H - 3W/2) T(g) + W^2 T(g/2) / 2] / ((H - W) (cos g/2 - sin g/2) / 2)
   const double g_stiff = 3.7;  // N/m per rad
-  std::vector<BiasPoint> curve;
+  std::vector<double> angle, force;
   for (int k = 1; k <= 40; ++k) {
-    BiasPoint p;
-    p.angle = 0.005 * k;
-    const double g = p.angle;
+    const double g = 0.005 * k;
     const double power = kW * (kH - 1.5 * kW) * g_stiff * g + kW * kW * g_stiff * g / 2 / 2;
-    p.force = power / ((kH - kW) * (std::cos(g / 2) - std::sin(g / 2)) / 2);
-    curve.push_back(p);
+    angle.push_back(g);
+    force.push_back(power / ((kH - kW) * (std::cos(g / 2) - std::sin(g / 2)) / 2));
   }
-  normalise_shear_force(curve, kH, kW);
-  for (const BiasPoint& p : curve) {
-    CAPTURE(p.angle);
-    // interpolating F_s(g/2) between the points is exact for a force linear in the angle up to
-    // the 1 / cos factor's curvature over one step
-    CHECK(p.shear_force * std::cos(p.angle) == Approx(g_stiff * p.angle).epsilon(2e-4));
+  const std::vector<double> fs = normalise_shear_force(angle, force, kH, kW);
+  REQUIRE(fs.size() == angle.size());
+  for (size_t k = 0; k < fs.size(); ++k) {
+    CAPTURE(angle[k]);
+    // F_s(g/2) interpolated between the points: exact for a torque linear in the angle up to
+    // the curvature of 1 / cos over one step (and the first point's F_s(g) / 2)
+    CHECK(fs[k] * std::cos(angle[k]) == Approx(g_stiff * angle[k]).epsilon(2e-4));
   }
 }
 
@@ -125,9 +124,9 @@ TEST_CASE("the bias-extension shear stiffness of a spring lattice equals its clo
   // 2 k_s sin(gamma/2), slope k_s at gamma = 0. A half square on the free edge has one
   // diagonal (along the edge) in half the area: the same energy per area. So the slope of
   // shear force per unit length against the angle is k_s, in N/m per rad.
-  const double ks = 2.0, ky = GENERATE(200.0, 800.0);
-  CAPTURE(ky);
-  // 10 degrees of central shear: d = (H - W) (sqrt 2 cos(pi/4 - 5 deg) - 1) ~ 9.2 mm, in 4 s
+  // yarns 4e4 times stiffer than the diagonals: nearly inextensible
+  const double ks = 2.0, ky = 80000.0;
+  // 11 degrees of pin-jointed shear: d = (H - W) (sqrt 2 cos(pi/4 - 5.5 deg) - 1) = 9.2 mm
   const Scenario sc = parse_scenario(specimen(ky, ks, 0.0092, 4.0), "<bias>");
   RunOptions o;
   o.progress = false;
@@ -136,14 +135,10 @@ TEST_CASE("the bias-extension shear stiffness of a spring lattice equals its clo
   REQUIRE(result.runs[0].stable);
   const std::vector<BiasPoint> curve = bias_extension_curve(result, result.runs[0]);
   REQUIRE(curve.size() > 100);
-  const double slope = shear_slope(curve, 5.0);
-  // the yarns stretch under the load, k_s / k_y of the shear: the relative error the
-  // normalisation makes, which assumes inextensible yarns
-  CHECK(slope == Approx(ks).epsilon(tol::kBiasShearStiffnessRelative + ks / ky));
-  // the measured angle follows the pin-jointed relation within the yarns' stretch
-  const BiasPoint& last = curve.back();
-  CHECK(last.angle == Approx(last.angle_pin).epsilon(tol::kBiasAngleRelative));
-  CHECK(last.angle * 180 / M_PI == Approx(10.0).epsilon(0.02));
+  // the normalisation at the pin-jointed angle: the net's work against its kinematics
+  CHECK(shear_slope(curve, 5.0, true) == Approx(ks).epsilon(tol::kBiasShearStiffnessRelative));
+  // (at the central square's measured angle the slope is 19 % higher: that square shears
+  // less than the zone around it, docs/methods.md; not a closed form, so not checked here)
 }
 
 TEST_CASE("a bias-extension scene needs its 45-degree lattice, a clamp and one handle along x",
@@ -174,7 +169,7 @@ TEST_CASE("a bias-extension scene needs its 45-degree lattice, a clamp and one h
   };
   const std::string no_shear = with(", shear = 2.000000", "");
   refused(triangular(no_shear), "lattice = \"grid\" and lattice_angle = 45");
-  refused(with("size = [0.15, 0.05]", "size = [0.09, 0.05]"), "at least twice as long");
+  refused(with("size = [0.15, 0.05]", "size = [0.15, 0.08]"), "at least twice as long");
   refused(with("0.005000, 0.0, 0.0]]", "-0.005000, 0.0, 0.0]]"), "forward along x");
   refused(with("select = \"box\"\nmin = [-0.001", "hold = \"y\"\nselect = \"box\"\nmin = [-0.001"),
           "fixed clamp");

@@ -108,23 +108,29 @@ double bias_section_force(const cloth::SpringSet& springs, const cloth::Matrix3X
   return section_force_per_width(springs, x0, x, t);
 }
 
-void normalise_shear_force(std::vector<BiasPoint>& curve, double length, double width) {
+std::vector<double> normalise_shear_force(const std::vector<double>& angle,
+                                          const std::vector<double>& force, double length,
+                                          double width) {
   const double h = length, w = width;
   std::vector<std::pair<double, double>> known;  // (angle, F_s), sorted by angle
-  for (BiasPoint& p : curve) {
-    const double g = p.angle;
+  std::vector<double> out;
+  for (size_t k = 0; k < std::min(angle.size(), force.size()); ++k) {
+    const double g = angle[k];
     const double half = shear_force_at(known, 0.5 * g);
-    const double work = (h / w - 1) * p.force * (std::cos(g / 2) - std::sin(g / 2));
+    const double work = (h / w - 1) * force[k] * (std::cos(g / 2) - std::sin(g / 2));
     // half the angle not reached yet (the first frames): F_s(g/2) taken as F_s(g) / 2
-    p.shear_force = std::isnan(half) ? work / ((2 * h - 3 * w) * std::cos(g) + 0.5 * w * std::cos(g / 2))
-                                     : (work - w * half * std::cos(g / 2)) /
-                                           ((2 * h - 3 * w) * std::cos(g));
-    if (!std::isfinite(p.shear_force)) continue;
+    const double fs =
+        std::isnan(half)
+            ? work / ((2 * h - 3 * w) * std::cos(g) + 0.5 * w * std::cos(g / 2))
+            : (work - w * half * std::cos(g / 2)) / ((2 * h - 3 * w) * std::cos(g));
+    out.push_back(fs);
+    if (!std::isfinite(fs)) continue;
     const auto at = std::upper_bound(
         known.begin(), known.end(), g,
-        [](double a, const std::pair<double, double>& k) { return a < k.first; });
-    known.insert(at, {g, p.shear_force});
+        [](double a, const std::pair<double, double>& p) { return a < p.first; });
+    known.insert(at, {g, fs});
   }
+  return out;
 }
 
 std::vector<BiasPoint> bias_curve(const cloth::SpringSet& springs, const cloth::Matrix3X& x0,
@@ -141,31 +147,40 @@ std::vector<BiasPoint> bias_curve(const cloth::SpringSet& springs, const cloth::
     p.angle = central_shear_angle(x0, x[k], setup);
     curve.push_back(p);
   }
-  normalise_shear_force(curve, setup.length, setup.width);
+  // the shear force at either angle
+  std::vector<double> measured, pin, force;
+  for (const BiasPoint& p : curve) {
+    measured.push_back(p.angle);
+    pin.push_back(p.angle_pin);
+    force.push_back(p.force);
+  }
+  const std::vector<double> fs = normalise_shear_force(measured, force, setup.length, setup.width);
+  const std::vector<double> fp = normalise_shear_force(pin, force, setup.length, setup.width);
+  for (size_t k = 0; k < curve.size(); ++k) {
+    curve[k].shear_force = fs[k];
+    curve[k].shear_force_pin = fp[k];
+  }
   return curve;
 }
 
-double shear_slope(const std::vector<BiasPoint>& curve, double fit_angle) {
-  // least squares with an intercept, about the means (no cancellation)
+double shear_slope(const std::vector<BiasPoint>& curve, double fit_angle, bool pin_jointed) {
+  // the points in the range, then least squares with an intercept about the means
   const double top = fit_angle * kDegree;
-  const auto in = [&](const BiasPoint& p) {
-    return p.angle > 0 && p.angle <= top && std::isfinite(p.shear_force);
-  };
-  double n = 0, sa = 0, sf = 0;
-  for (const BiasPoint& p : curve)
-    if (in(p)) {
-      n += 1;
-      sa += p.angle;
-      sf += p.shear_force;
-    }
-  if (n < 3) return kNaN;
-  const double ma = sa / n, mf = sf / n;
+  std::vector<double> a, f;
+  for (const BiasPoint& p : curve) {
+    const double angle = pin_jointed ? p.angle_pin : p.angle;
+    const double force = pin_jointed ? p.shear_force_pin : p.shear_force;
+    if (angle > 0 && angle <= top && std::isfinite(force)) a.push_back(angle), f.push_back(force);
+  }
+  if (a.size() < 3) return kNaN;
+  const double n = double(a.size());
+  double ma = 0, mf = 0;
+  for (size_t k = 0; k < a.size(); ++k) ma += a[k] / n, mf += f[k] / n;
   double sxy = 0, sxx = 0;
-  for (const BiasPoint& p : curve)
-    if (in(p)) {
-      sxy += (p.angle - ma) * (p.shear_force - mf);
-      sxx += (p.angle - ma) * (p.angle - ma);
-    }
+  for (size_t k = 0; k < a.size(); ++k) {
+    sxy += (a[k] - ma) * (f[k] - mf);
+    sxx += (a[k] - ma) * (a[k] - ma);
+  }
   return sxx > 0 ? sxy / sxx : kNaN;
 }
 
@@ -176,6 +191,7 @@ std::vector<TestMetric> bias_rows(const std::vector<BiasPoint>& curve, double fi
   const double last = curve.empty() ? kNaN : curve.back().angle / kDegree;
   const double last_pin = curve.empty() ? kNaN : curve.back().angle_pin / kDegree;
   return {{"shear_stiffness", shear_slope(curve, fit_angle), "N/m/rad"},
+          {"shear_stiffness_pin_jointed", shear_slope(curve, fit_angle, true), "N/m/rad"},
           {"fit_angle", fit_angle, "deg"},
           {"final_shear_angle", last, "deg"},
           {"final_shear_angle_pin_jointed", last_pin, "deg"},

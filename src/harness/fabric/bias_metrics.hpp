@@ -72,34 +72,41 @@ struct BiasPoint {
   double force = 0;         // N, F: bias_section_force
   double angle_pin = 0;     // rad, pin_jointed_angle at d
   double angle = 0;         // rad, central_shear_angle (measured)
-  double shear_force = 0;   // N/m, F_s at the measured angle (normalised_shear_force)
+  double shear_force = 0;   // N/m, F_s at the measured angle (normalise_shear_force)
+  double shear_force_pin = 0;  // N/m, F_s at the pin-jointed angle (normalise_shear_force)
 };
 
-/// The shear force per unit length F_s (N/m) of each point, in order, from the energy balance
+/// The shear force per unit length F_s (N/m) at each angle (rad) with each clamp force (N),
+/// in order (angle and force #K each), from the energy balance
 /// of the net's zones, F d' = W (H - 3W/2) T(gamma) gamma' + W^2 T(gamma/2) gamma'/2 with the
 /// torque per unit area T = F_s cos(gamma) and d' = (H - W) (cos(gamma/2) - sin(gamma/2))
 /// gamma' / 2 (the derivative of the relation above):
 /// F_s(gamma) = [(H/W - 1) F (cos(gamma/2) - sin(gamma/2)) - W F_s(gamma/2) cos(gamma/2)]
 ///              / ((2H - 3W) cos(gamma)),
-/// the normalisation of Harrison et al. 2004 and Cao et al. 2008, gamma each point's measured
-/// angle; F_s(gamma/2) interpolated linearly between the earlier points (and 0 at gamma = 0),
-/// or, before any earlier point reaches gamma/2, taken as F_s(gamma) / 2 (a linear net).
-void normalise_shear_force(std::vector<BiasPoint>& curve, double length, double width);
+/// the normalisation of Harrison et al. 2004 and Cao et al. 2008; F_s(gamma/2) interpolated
+/// linearly between the earlier points (and 0 at gamma = 0), or, before any earlier point
+/// reaches gamma/2, taken as F_s(gamma) / 2 (a linear net). Returns #K values.
+std::vector<double> normalise_shear_force(const std::vector<double>& angle,
+                                          const std::vector<double>& force, double length,
+                                          double width);
 
 /// The curve of one run: a point per frame at times t with positions x[k] (3 by #P each), the
-/// displacement from the handle's prescribed motion, shear forces normalised.
+/// displacement from the handle's prescribed motion, shear forces normalised at the measured
+/// angles and at the pin-jointed ones.
 std::vector<BiasPoint> bias_curve(const cloth::SpringSet& springs, const cloth::Matrix3X& x0,
                                   const BiasSetup& setup, const cloth::Motion& handle,
                                   const std::vector<double>& t,
                                   const std::vector<cloth::Matrix3X>& x);
 
 /// The shear stiffness (N/m per rad): the least-squares slope (with intercept) of the shear
-/// force per unit length against the measured angle over the points with
-/// 0 < angle <= fit_angle (degrees); NaN with fewer than 3.
-double shear_slope(const std::vector<BiasPoint>& curve, double fit_angle);
+/// force per unit length against the angle over the points with 0 < angle <= fit_angle
+/// (degrees): the measured angle and shear_force, or with pin_jointed the pin-jointed angle
+/// and shear_force_pin; NaN with fewer than 3.
+double shear_slope(const std::vector<BiasPoint>& curve, double fit_angle, bool pin_jointed = false);
 
-/// The rows of tests.csv for a curve, in the order written: shear_stiffness (N/m/rad),
-/// fit_angle (deg, the range of its fit, as given), final_shear_angle (deg, measured) and
+/// The rows of tests.csv for a curve, in the order written: shear_stiffness (N/m/rad, the
+/// measured angle's), shear_stiffness_pin_jointed (N/m/rad, the relation's angle's),
+/// fit_angle (deg, the range of their fits, as given), final_shear_angle (deg, measured) and
 /// final_shear_angle_pin_jointed (deg) at the last point, max_force (N) (NaN for an empty
 /// curve).
 std::vector<TestMetric> bias_rows(const std::vector<BiasPoint>& curve, double fit_angle);

@@ -139,7 +139,8 @@ std::vector<OutputFile> comparison_files() {
              "maxima of the outline's radius around the support's axis, smoothed over 10 "
              "degrees), min_radius and max_radius of that smoothed outline; strip-tensile: "
              "tensile_stiffness, fit_strain, max_strain, max_force_per_width; bias-extension: "
-             "shear_stiffness, fit_angle, final_shear_angle (measured), "
+             "shear_stiffness (at the measured angle), shear_stiffness_pin_jointed, fit_angle, "
+             "final_shear_angle (measured), "
              "final_shear_angle_pin_jointed, max_force"},
             {"value", "as unit",
              "the metric's value; empty when undefined (the run blew up, "
@@ -164,7 +165,9 @@ std::vector<OutputFile> comparison_files() {
              "between the deformed yarn directions of its least-squares affine map"},
             {"shear_force", "N/m",
              "shear force per unit length at the measured angle, normalised by the zones' "
-             "energy balance (docs/methods.md); empty for a non-custom engine"}}},
+             "energy balance (docs/methods.md); empty for a non-custom engine"},
+            {"shear_force_pin_jointed", "N/m",
+             "the same normalisation at the pin-jointed angle; empty for a non-custom engine"}}},
           {"tensile.csv",
            "clothbench run, in the run folder, when the scenario's [test] is a strip-tensile",
            "one frame of one custom engine's force-strain curve (the other engines' forces are "

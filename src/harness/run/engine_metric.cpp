@@ -92,7 +92,7 @@ std::vector<BiasPoint> bias_extension_curve(const RunResult& result, const Engin
   std::vector<BiasPoint> curve = bias_curve(model.springs, model.x0, setup, handle.motion, t, x);
   // another engine's forces are not the scene's springs: its angles alone
   if (run.spec.kind != EngineKind::custom)
-    for (BiasPoint& p : curve) p.force = p.shear_force = NAN;
+    for (BiasPoint& p : curve) p.force = p.shear_force = p.shear_force_pin = NAN;
   return curve;
 }
 

@@ -532,7 +532,7 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
 void write_bias_rows(const RunResult& result, const EngineRun& run, CsvWriter& bias) {
   for (const BiasPoint& p : bias_extension_curve(result, run)) {
     bias.add(run.spec.name).add(p.t).add(p.displacement);
-    for (double v : {p.force, p.angle_pin, p.angle, p.shear_force})
+    for (double v : {p.force, p.angle_pin, p.angle, p.shear_force, p.shear_force_pin})
       if (std::isfinite(v))
         bias.add(v);
       else
