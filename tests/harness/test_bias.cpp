@@ -94,8 +94,7 @@ TEST_CASE("a pin-jointed shear of the lattice gives its angle by the relation an
   CHECK(pin_jointed_angle(kH, kW, 0.0) == Approx(0.0).margin(1e-15));
 }
 
-TEST_CASE("the normalised shear force of a linear net gives back its shear stiffness",
-          "[bias]") {
+TEST_CASE("the normalised shear force of a linear net gives back its shear stiffness", "[bias]") {
   // the energy balance run forward: a net of torque T = G gamma per unit area, F_s = T / cos,
   // clamp force F = [W (H - 3W/2) T(g) + W^2 T(g/2) / 2] / ((H - W) (cos g/2 - sin g/2) / 2)
   const double g_stiff = 3.7;  // N/m per rad
@@ -164,7 +163,8 @@ TEST_CASE("a bias-extension scene needs its 45-degree lattice, a clamp and one h
   refused(with("lattice_angle = 45.0", "lattice_angle = 30.0"), "a multiple of 45");
   const auto triangular = [&](const std::string& s) {
     std::string out = s;
-    out.replace(out.find("lattice = "), std::string("lattice = \"grid\"\nlattice_angle = 45.0\n").size(), "");
+    out.replace(out.find("lattice = "),
+                std::string("lattice = \"grid\"\nlattice_angle = 45.0\n").size(), "");
     return out;
   };
   const std::string no_shear = with(", shear = 2.000000", "");

@@ -54,15 +54,15 @@ const std::vector<MeshShape>& all_mesh_shapes();
 /// What generate_mesh makes.
 struct ShapeSpec {
   MeshShape shape = MeshShape::disk;
-  double radius = 0.15;              // m, disk, annulus (outer), tube
-  double inner_radius = 0.05;        // m, annulus
-  double size_u = 1.0;               // m, rectangle
-  double size_v = 1.0;               // m, rectangle
-  double length = 0.4;               // m, tube
-  double edge_length = 0.01;         // m, the target length of an edge
-  std::uint64_t seed = 1;            // the jitter's seed
-  Vector3 center = {0.0, 1.0, 0.0};  // m, the shape's centre
-  Plane plane = Plane::xz;           // disk, annulus, rectangle
+  double radius = 0.15;                           // m, disk, annulus (outer), tube
+  double inner_radius = 0.05;                     // m, annulus
+  double size_u = 1.0;                            // m, rectangle
+  double size_v = 1.0;                            // m, rectangle
+  double length = 0.4;                            // m, tube
+  double edge_length = 0.01;                      // m, the target length of an edge
+  std::uint64_t seed = 1;                         // the jitter's seed
+  Vector3 center = {0.0, 1.0, 0.0};               // m, the shape's centre
+  Plane plane = Plane::xz;                        // disk, annulus, rectangle
   MeshLattice lattice = MeshLattice::triangular;  // rectangle
   double lattice_angle = 0.0;                     // degrees, grid: the yarns' angle to u
 };

@@ -119,15 +119,14 @@ std::vector<double> normalise_shear_force(const std::vector<double>& angle,
     const double half = shear_force_at(known, 0.5 * g);
     const double work = (h / w - 1) * force[k] * (std::cos(g / 2) - std::sin(g / 2));
     // half the angle not reached yet (the first frames): F_s(g/2) taken as F_s(g) / 2
-    const double fs =
-        std::isnan(half)
-            ? work / ((2 * h - 3 * w) * std::cos(g) + 0.5 * w * std::cos(g / 2))
-            : (work - w * half * std::cos(g / 2)) / ((2 * h - 3 * w) * std::cos(g));
+    const double fs = std::isnan(half)
+                          ? work / ((2 * h - 3 * w) * std::cos(g) + 0.5 * w * std::cos(g / 2))
+                          : (work - w * half * std::cos(g / 2)) / ((2 * h - 3 * w) * std::cos(g));
     out.push_back(fs);
     if (!std::isfinite(fs)) continue;
-    const auto at = std::upper_bound(
-        known.begin(), known.end(), g,
-        [](double a, const std::pair<double, double>& p) { return a < p.first; });
+    const auto at =
+        std::upper_bound(known.begin(), known.end(), g,
+                         [](double a, const std::pair<double, double>& p) { return a < p.first; });
     known.insert(at, {g, fs});
   }
   return out;

@@ -67,12 +67,12 @@ double bias_section_force(const cloth::SpringSet& springs, const cloth::Matrix3X
 
 /// One frame of the bias-extension curve.
 struct BiasPoint {
-  double t = 0;             // s
-  double displacement = 0;  // m, d: the handle's prescribed displacement along the axis
-  double force = 0;         // N, F: bias_section_force
-  double angle_pin = 0;     // rad, pin_jointed_angle at d
-  double angle = 0;         // rad, central_shear_angle (measured)
-  double shear_force = 0;   // N/m, F_s at the measured angle (normalise_shear_force)
+  double t = 0;                // s
+  double displacement = 0;     // m, d: the handle's prescribed displacement along the axis
+  double force = 0;            // N, F: bias_section_force
+  double angle_pin = 0;        // rad, pin_jointed_angle at d
+  double angle = 0;            // rad, central_shear_angle (measured)
+  double shear_force = 0;      // N/m, F_s at the measured angle (normalise_shear_force)
   double shear_force_pin = 0;  // N/m, F_s at the pin-jointed angle (normalise_shear_force)
 };
 

@@ -127,6 +127,31 @@ std::vector<OutputFile> run_files() {
          "apart, capped at half the mean rest edge length; empty when a position is not finite"}}}};
 }
 
+// bias.csv: the bias-extension curves
+OutputFile bias_file() {
+  return {"bias.csv",
+          "clothbench run, in the run folder, when the scenario's [test] is a bias-extension",
+          "one frame of one engine's bias-extension curve (force and shear force for the custom "
+          "engines alone: the other engines' forces are not the scene's springs)",
+          {kEngine,
+           kT,
+           {"displacement", "m", "the handle's prescribed displacement d along x"},
+           {"force", "N",
+            "the springs' elastic force along x across the specimen's central section (the "
+            "clamp force, quasi-static); empty for a non-custom engine"},
+           {"angle_pin_jointed", "rad",
+            "the central zone's shear angle of the pin-jointed net at d: pi/2 - 2 acos[(H - W "
+            "+ d) / (sqrt(2) (H - W))] (Cao et al. 2008)"},
+           {"angle", "rad",
+            "the central zone's shear angle measured from its particles: pi/2 less the angle "
+            "between the deformed yarn directions of its least-squares affine map"},
+           {"shear_force", "N/m",
+            "shear force per unit length at the measured angle, normalised by the zones' "
+            "energy balance (docs/methods.md); empty for a non-custom engine"},
+           {"shear_force_pin_jointed", "N/m",
+            "the same normalisation at the pin-jointed angle; empty for a non-custom engine"}}};
+}
+
 // the run's comparisons: each engine against the reference, its shapes, the attribution
 std::vector<OutputFile> comparison_files() {
   return {{"tests.csv",
@@ -147,27 +172,7 @@ std::vector<OutputFile> comparison_files() {
              "a chord angle the elastica cannot invert, fewer than 3 frames in a tensile fit, "
              "or an engine whose forces are not the scene's springs)"},
             {"unit", "text", "the value's unit: deg, m, N, N m, N/m, N/m/rad or 1"}}},
-          {"bias.csv",
-           "clothbench run, in the run folder, when the scenario's [test] is a bias-extension",
-           "one frame of one engine's bias-extension curve (force and shear force for the custom "
-           "engines alone: the other engines' forces are not the scene's springs)",
-           {kEngine,
-            kT,
-            {"displacement", "m", "the handle's prescribed displacement d along x"},
-            {"force", "N",
-             "the springs' elastic force along x across the specimen's central section (the "
-             "clamp force, quasi-static); empty for a non-custom engine"},
-            {"angle_pin_jointed", "rad",
-             "the central zone's shear angle of the pin-jointed net at d: pi/2 - 2 acos[(H - W "
-             "+ d) / (sqrt(2) (H - W))] (Cao et al. 2008)"},
-            {"angle", "rad",
-             "the central zone's shear angle measured from its particles: pi/2 less the angle "
-             "between the deformed yarn directions of its least-squares affine map"},
-            {"shear_force", "N/m",
-             "shear force per unit length at the measured angle, normalised by the zones' "
-             "energy balance (docs/methods.md); empty for a non-custom engine"},
-            {"shear_force_pin_jointed", "N/m",
-             "the same normalisation at the pin-jointed angle; empty for a non-custom engine"}}},
+          bias_file(),
           {"tensile.csv",
            "clothbench run, in the run folder, when the scenario's [test] is a strip-tensile",
            "one frame of one custom engine's force-strain curve (the other engines' forces are "

@@ -75,11 +75,11 @@ std::vector<TensilePoint> strip_tensile_curve(const RunResult& result, const Eng
 std::vector<BiasPoint> bias_extension_curve(const RunResult& result, const EngineRun& run) {
   const Scenario& sc = result.scenario;
   if (sc.test.kind != "bias-extension" || run.positions.size() != run.frames.size()) return {};
-  const cloth::Vector3 across = sc.mesh.shape.plane == cloth::Plane::xy ? cloth::Vector3::UnitY()
-                                                                        : cloth::Vector3::UnitZ();
+  const cloth::Vector3 across =
+      sc.mesh.shape.plane == cloth::Plane::xy ? cloth::Vector3::UnitY() : cloth::Vector3::UnitZ();
   const cloth::Handle& handle = sc.scene.handles.at(0);
-  const BiasSetup setup = bias_setup(result.model.x0, sc.scene.held, handle.particles,
-                                     cloth::Vector3::UnitX(), across);
+  const BiasSetup setup =
+      bias_setup(result.model.x0, sc.scene.held, handle.particles, cloth::Vector3::UnitX(), across);
   // the springs the engine ran: its own with overrides
   cloth::Model own;
   const cloth::Model& model = engine_model(result, run, own);

@@ -38,9 +38,9 @@ const Keys kClothKeys = {"particles",        "size",       "center",        "pla
                          "self_collision",   "thickness",  "self_friction", "bend_model",
                          "bending_rigidity", "fabric"};
 const Keys kBendModels = {"springs", "hinge"};
-const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size",   "length",
-                            "edge_length", "seed",   "center",       "plane",  "lattice",
-                            "lattice_angle"};
+const Keys kGenerateKeys = {"shape",  "radius",      "inner_radius", "size",
+                            "length", "edge_length", "seed",         "center",
+                            "plane",  "lattice",     "lattice_angle"};
 const Keys kLattices = {"triangular", "grid"};
 const Keys kTestKeys = {"kind", "edge", "direction", "fit_strain", "fit_angle"};
 const Keys kTensileDirections = {"u", "v"};

@@ -217,7 +217,8 @@ std::string scenario_to_toml(const Scenario& s) {
   if (s.test.kind == "strip-tensile")
     o << "direction = " << toml_string(s.test.direction)
       << "\nfit_strain = " << d(s.test.fit_strain) << "\n";
-  if (s.test.kind == "bias-extension") o << "fit_angle = " << d(s.test.fit_angle) << "  # degrees\n";
+  if (s.test.kind == "bias-extension")
+    o << "fit_angle = " << d(s.test.fit_angle) << "  # degrees\n";
 
   for (const EngineSpec& e : s.engines) {
     o << "\n[[engine]]\n"

@@ -138,7 +138,8 @@ void check_bias_specimen(const Reader& r, const toml::table& t, const Scenario& 
   if (!(g.size_u >= 2 * g.size_v))
     r.fail(t.get("kind"), "test.kind",
            "expected the bias-extension specimen at least twice as long (size u, along x) as "
-           "wide (size v), got " + toml_double(g.size_u) + " m by " + toml_double(g.size_v) +
+           "wide (size v), got " +
+               toml_double(g.size_u) + " m by " + toml_double(g.size_v) +
                " m (the central zone is in pure shear only then)");
 }
 
