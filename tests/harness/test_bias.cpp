@@ -178,4 +178,6 @@ TEST_CASE("a bias-extension scene needs its 45-degree lattice, a clamp and one h
   const Scenario sc = parse_scenario(good, "<bias>");
   CHECK(sc.scene.cloth.k_shear == 2.0);
   refused(triangular(good), "cloth.stiffness.shear");
+  // a fabric preset is mapped onto grids and triangle meshes, not onto a grid lattice
+  refused(with("[cloth]\n", "[cloth]\nfabric = \"11oz-black-denim\"\n"), "expected no fabric");
 }

@@ -36,10 +36,10 @@ enum class MeshShape {
 /// How a rectangle is filled.
 enum class MeshLattice {
   triangular,  ///< a jittered triangular lattice, Delaunay-triangulated
-  /// a square grid (yarns) at lattice_angle to u, each square split into two triangles along
-  /// its diagonal nearer u; the angle a multiple of 45 degrees, so that the rectangle's edges
-  /// run along yarns (0, 90) or along the squares' diagonals (45, 135), where the squares the
-  /// edge cuts in half leave triangles; the mesh's cells list the squares
+  /// a square grid (yarns) at lattice_angle to u, each square split into two triangles (at 45
+  /// degrees along its diagonal along u); the angle a multiple of 45 degrees, so that the
+  /// rectangle's edges run along yarns (0, 90) or along the squares' diagonals (45, 135), where the
+  /// squares the edge cuts in half leave triangles; the mesh's cells list the squares
   grid
 };
 

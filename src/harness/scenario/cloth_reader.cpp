@@ -311,6 +311,11 @@ void read_cloth(const Reader& r, const toml::table* table, Scenario& s) {
   }
   // a fabric's density unless the mass is given; its springs at the resolution and mass read
   const Fabric* fabric = read_fabric(r, at);
+  // the presets' mapping is a grid's or a triangle mesh's, not a grid lattice's
+  if (fabric && s.scene.mesh && !s.scene.mesh->cells.empty())
+    r.fail(table->get("fabric"), "cloth.fabric",
+           "expected no fabric on a [cloth.generate] lattice = \"grid\" (the presets are mapped "
+           "onto grids and triangle meshes only); give its stiffness instead");
   const toml::table& t = *table;
   if (fabric && !t.get("areal_density") && !t.get("total_mass") && !t.get("particle_mass"))
     c.areal_density = fabric->areal_density;
