@@ -14,6 +14,7 @@
 #include "harness/run/runner.hpp"
 #include "harness/scenario/scenario_error.hpp"
 #include "harness/scenario/scenario_loader.hpp"
+#include "harness/scenario/scenario_writer.hpp"
 #include "tests/tolerances.hpp"
 
 using namespace clothbench;
@@ -177,6 +178,14 @@ TEST_CASE("a bias-extension scene needs its 45-degree lattice, a clamp and one h
   // shear springs on a lattice mesh are read; on another mesh refused
   const Scenario sc = parse_scenario(good, "<bias>");
   CHECK(sc.scene.cloth.k_shear == 2.0);
+  // the resolved scenario (run's scenario.toml) reads back to the same lattice, springs, test
+  const Scenario back = parse_scenario(scenario_to_toml(sc), "back.toml");
+  CHECK(back.scene.cloth.k_shear == 2.0);
+  CHECK(back.mesh.shape.lattice == cloth::MeshLattice::grid);
+  CHECK(back.mesh.shape.lattice_angle == 45.0);
+  CHECK(back.test.fit_angle == 5.0);
+  CHECK(cloth::build_model(back.scene).springs.links().size() ==
+        cloth::build_model(sc.scene).springs.links().size());
   refused(triangular(good), "cloth.stiffness.shear");
   // a fabric preset is mapped onto grids and triangle meshes, not onto a grid lattice
   refused(with("[cloth]\n", "[cloth]\nfabric = \"11oz-black-denim\"\n"), "expected no fabric");

@@ -157,7 +157,9 @@ void write_cloth(std::ostream& o, const Scenario& s) {
       << ", structural_v = " << d(c.structural_v());
   else
     o << "stiffness = { structural = " << d(c.k_structural);
-  if (!s.mesh.any()) o << ", shear = " << d(c.k_shear);
+  // shear springs: a grid's, or a generated grid lattice's
+  const bool lattice = s.mesh.generated && s.mesh.shape.lattice == cloth::MeshLattice::grid;
+  if (!s.mesh.any() || lattice) o << ", shear = " << d(c.k_shear);
   o << ", bend = " << d(c.k_bend) << " }  # N/m\n";
   if (c.bend_model == cloth::BendModel::hinge)
     o << "bend_model = \"hinge\"\nbending_rigidity = " << d(c.bending_rigidity) << "  # N m\n";
