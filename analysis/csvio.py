@@ -129,6 +129,11 @@ SCHEMAS = {
          "sensitivity", "sensitivities", "status"],
         text=["engine", "parameter", "metric", "sensitivities", "status"],
         keys=["engine", "metric", "target", "status"]),
+    # a bias-extension [test]: one frame of one engine's curve (forces empty but the custom's)
+    "bias.csv": Schema(
+        ["engine", "t", "displacement", "force", "angle_pin_jointed", "angle", "shear_force",
+         "shear_force_pin_jointed"],
+        text=["engine"], keys=["engine", "t"]),
     "attribution.csv": Schema(
         ["engine", "reference", "matched", "at", "t", "total_rms", "scheme_rms", "model_rms",
          "note"],

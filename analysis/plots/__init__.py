@@ -3,12 +3,13 @@ draw(folders, ctx) -> PNG path, where folders is one Folder or two (--compare). 
 have nothing to show on some data also has skip_reason(folders) -> None, or the sentence the page
 shows in its place."""
 
-from . import (convergence, divergence, drape, energy, reference, resolution,
+from . import (bias_curve, convergence, divergence, drape, energy, reference, resolution,
                resolution_recommendation, self_contact, shadow, stability, stability_map,
                stability_mode, standard_tests, strain, tensile_curve, work_precision)
 
 # in the order the report shows them
 ALL = [energy, divergence, strain, self_contact, drape, shadow, standard_tests, tensile_curve,
+       bias_curve,
        work_precision, convergence, resolution, stability, stability_mode, stability_map,
        reference, resolution_recommendation]
 

@@ -34,6 +34,9 @@ def make_outputs(clothbench, source, work):
     cantilever = os.path.join(source, "scenarios", "fabric", "cantilever.toml")
     run(clothbench, "run", cantilever, "--set", "duration=0.05", "-o", f"{work}/tests",
         "-e", "custom-rk4")
+    # a bias-extension [test] writes bias.csv
+    bias = os.path.join(source, "scenarios", "fabric", "bias-extension.toml")
+    run(clothbench, "run", bias, "--set", "duration=0.04", "-o", f"{work}/bias")
     # a strip-tensile [test] writes tensile.csv
     tensile = os.path.join(source, "scenarios", "fabric", "strip-tensile-warp.toml")
     run(clothbench, "run", tensile, "--set", "duration=0.05", "-o", f"{work}/tensile",

@@ -263,6 +263,73 @@ TriangleMesh tube_mesh(const ShapeSpec& spec, SplitMix64& rng) {
   return mesh;
 }
 
+/// The vertex numbers of a (nu + 1) by (nv + 1) index grid, row by row from j = 0; a node
+/// (i, j) with i + j odd is left out when diagonal (the 45-degree lattice's nodes), -1 there.
+std::vector<int> node_numbers(int nu, int nv, bool diagonal) {
+  std::vector<int> number(size_t((nu + 1) * (nv + 1)), -1);
+  int next = 0;
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i <= nu; ++i)
+      if (!diagonal || (i + j) % 2 == 0) number[size_t(j * (nu + 1) + i)] = next++;
+  return number;
+}
+
+/// A square lattice on the rectangle (MeshLattice::grid): at 0 or 90 degrees squares of the
+/// index grid (i, j), split along (i, j)-(i + 1, j + 1); at 45 or 135 degrees diamonds around
+/// every (i, j) with i + j odd (corners E, N, W, S at one index step), split along W-E (along
+/// u), those around a boundary index cut in half by the edge.
+TriangleMesh grid_lattice_mesh(const ShapeSpec& spec) {
+  const double su = spec.size_u, sv = spec.size_v, h = spec.edge_length;
+  const bool diagonal = std::lround(spec.lattice_angle / 45.0) % 2 != 0;
+  // index steps: a side h, or at 45 degrees half a diagonal h / sqrt(2), in even numbers
+  const double step = diagonal ? h / std::sqrt(2.0) : h;
+  const int k = diagonal ? 2 : 1;
+  const int nu = k * count_of(su, k * step, 1), nv = k * count_of(sv, k * step, 1);
+  const std::vector<int> number = node_numbers(nu, nv, diagonal);
+  const auto id = [&](int i, int j) {
+    return i < 0 || j < 0 || i > nu || j > nv ? -1 : number[size_t(j * (nu + 1) + i)];
+  };
+  TriangleMesh mesh;
+  std::vector<std::array<int, 3>> tris;
+  const auto add = [&](int a, int b, int c) {
+    // counter-clockwise in (u, v) faces u x v: -y in the xz plane (u along x, v along z)
+    if (spec.plane == Plane::xz) std::swap(b, c);
+    tris.push_back({a, b, c});
+  };
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i <= nu; ++i) {
+      if (!diagonal && i < nu && j < nv) {
+        mesh.cells.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+        add(id(i, j), id(i + 1, j), id(i + 1, j + 1));
+        add(id(i, j), id(i + 1, j + 1), id(i, j + 1));
+      }
+      if (!diagonal || (i + j) % 2 == 0) continue;
+      // a diamond's corners, counter-clockwise; one of them off the rectangle on its edge
+      const int e = id(i + 1, j), n = id(i, j + 1), w = id(i - 1, j), s = id(i, j - 1);
+      mesh.cells.push_back({e, n, w, s});
+      if (w >= 0 && e >= 0) {
+        if (s >= 0) add(w, s, e);
+        if (n >= 0) add(w, e, n);
+      } else {
+        if (w < 0) add(s, e, n);
+        if (e < 0) add(w, s, n);
+      }
+    }
+  canonical_order(tris);
+  mesh.triangles = std::move(tris);
+  // positions: the last index of each axis exactly on the far edge
+  mesh.x.resize(3, number.empty() ? 0 : *std::max_element(number.begin(), number.end()) + 1);
+  for (int j = 0; j <= nv; ++j)
+    for (int i = 0; i <= nu; ++i) {
+      if (id(i, j) < 0) continue;
+      const double u = i == nu ? su / 2 : -su / 2 + i * (su / nu);
+      const double v = j == nv ? sv / 2 : -sv / 2 + j * (sv / nv);
+      const Vector3 offset = spec.plane == Plane::xz ? Vector3(u, 0.0, v) : Vector3(u, v, 0.0);
+      mesh.x.col(id(i, j)) = spec.center + offset;
+    }
+  return mesh;
+}
+
 bool positive(double x) {
   return std::isfinite(x) && x > 0.0;
 }
@@ -281,6 +348,10 @@ const char* mesh_shape_name(MeshShape shape) {
       return "tube";
   }
   return "?";
+}
+
+const char* mesh_lattice_name(MeshLattice lattice) {
+  return lattice == MeshLattice::grid ? "grid" : "triangular";
 }
 
 const std::vector<MeshShape>& all_mesh_shapes() {
@@ -302,18 +373,28 @@ std::string shape_spec_problem(const ShapeSpec& spec) {
     return "edge_length: at most radius - inner_radius (the ring at least one edge wide)";
   if (spec.shape == MeshShape::rectangle && !(positive(spec.size_u) && positive(spec.size_v)))
     return "size: expected two numbers > 0";
+  if (spec.lattice == MeshLattice::grid && spec.shape != MeshShape::rectangle)
+    return "lattice: \"grid\" applies to a rectangle alone";
+  // edges along yarns or along the squares' diagonals: resolved by the lattice's own nodes
+  const double eighths = spec.lattice_angle / 45.0;
+  if (!std::isfinite(spec.lattice_angle) || std::abs(eighths - std::round(eighths)) > 1e-12)
+    return "lattice_angle: expected a multiple of 45 degrees (the rectangle's edges then run "
+           "along the yarns or along the squares' diagonals)";
+  if (spec.lattice != MeshLattice::grid && spec.lattice_angle != 0.0)
+    return "lattice_angle: applies to lattice = \"grid\" alone";
   if (spec.shape == MeshShape::tube && !positive(spec.length))
     return "length: expected a number > 0";
   if (spec.shape == MeshShape::tube && kTwoPi * spec.radius < 6.0 * spec.edge_length)
     return "edge_length: a tube needs at least six edges around (edge_length <= 2 pi radius / 6)";
-  // the area over the area per point of a triangular lattice, h^2 sqrt(3) / 2
+  // the area over the area per point of a triangular lattice, h^2 sqrt(3) / 2 (a grid's h^2)
   double area = spec.size_u * spec.size_v;
   if (spec.shape == MeshShape::disk) area = kTwoPi / 2 * spec.radius * spec.radius;
   if (spec.shape == MeshShape::annulus)
     area = kTwoPi / 2 * (spec.radius * spec.radius - spec.inner_radius * spec.inner_radius);
   if (spec.shape == MeshShape::tube) area = kTwoPi * spec.radius * spec.length;
   const double h = spec.edge_length;
-  if (area / (h * h * std::sqrt(3.0) / 2) > kMaxGeneratedVertices)
+  const double per_point = spec.lattice == MeshLattice::grid ? h * h : h * h * std::sqrt(3.0) / 2;
+  if (area / per_point > kMaxGeneratedVertices)
     return "edge_length: too small, the mesh would have more than " +
            std::to_string(kMaxGeneratedVertices) + " vertices";
   return "";
@@ -333,7 +414,9 @@ TriangleMesh generate_mesh(const ShapeSpec& spec) {
       mesh = planar_mesh(rings(spec.inner_radius, spec.radius, h, rng), spec);
       break;
     case MeshShape::rectangle:
-      mesh = planar_mesh(lattice(spec.size_u, spec.size_v, h, false, rng), spec);
+      mesh = spec.lattice == MeshLattice::grid
+                 ? grid_lattice_mesh(spec)
+                 : planar_mesh(lattice(spec.size_u, spec.size_v, h, false, rng), spec);
       break;
     case MeshShape::tube:
       mesh = tube_mesh(spec, rng);

@@ -85,8 +85,9 @@ VectorX particle_masses(const Scene& scene) {
   return VectorX::Constant(n, pm);
 }
 
-// one structural spring per edge, one bend spring per interior edge across its two triangles,
-// in the order the general kernel runs fastest
+// one structural spring per edge, one bend spring per interior edge across its two triangles
+// (a grid lattice: structural along its yarns, shear on its squares' diagonals, bend two sides
+// apart along a yarn), in the order the general kernel runs fastest
 SpringSet mesh_springs(const ClothParams& c, const TriangleMesh& mesh) {
   const MeshEdges e = mesh_edges(mesh);
   SpringSet set;
@@ -95,10 +96,17 @@ SpringSet mesh_springs(const ClothParams& c, const TriangleMesh& mesh) {
     set.list.push_back(
         {std::min(a, b), std::max(a, b), (mesh.x.col(b) - mesh.x.col(a)).norm(), k, kind});
   };
+  // a grid lattice's springs follow its yarns and squares, a grid's sets; else its edges
+  const LatticeLinks lat = lattice_links(mesh);
+  const bool lattice = !mesh.cells.empty();
   if (c.k_structural > 0)
-    for (const auto& [a, b] : e.edges) add(a, b, c.k_structural, SpringKind::structural);
+    for (const auto& [a, b] : lattice ? lat.structural : e.edges)
+      add(a, b, c.k_structural, SpringKind::structural);
+  if (c.k_shear > 0)
+    for (const auto& [a, b] : lat.shear) add(a, b, c.k_shear, SpringKind::shear);
   if (c.k_bend > 0)
-    for (const auto& [a, b] : e.bend_pairs) add(a, b, c.k_bend, SpringKind::bend);
+    for (const auto& [a, b] : lattice ? lat.bend : e.bend_pairs)
+      add(a, b, c.k_bend, SpringKind::bend);
   // laid out for the general kernel (each particle's first springs together, so most blocks
   // start at consecutive particles), the particles keeping their numbers
   std::vector<int> same(static_cast<size_t>(mesh.vertex_count()));

@@ -2,8 +2,48 @@
 
 #include <Eigen/Geometry>
 #include <algorithm>
+#include <set>
 
 namespace cloth {
+
+namespace {
+
+/// The pair (a, b) with the lower index first.
+std::array<int, 2> ordered(int a, int b) {
+  return {std::min(a, b), std::max(a, b)};
+}
+
+}  // namespace
+
+LatticeLinks lattice_links(const TriangleMesh& mesh) {
+  // sides between consecutive present corners, diagonals between opposite present ones
+  std::set<std::array<int, 2>> sides, diagonals;
+  for (const auto& c : mesh.cells) {
+    for (int k = 0; k < 4; ++k)
+      if (c[k] >= 0 && c[(k + 1) % 4] >= 0) sides.insert(ordered(c[k], c[(k + 1) % 4]));
+    for (int k = 0; k < 2; ++k)
+      if (c[k] >= 0 && c[k + 2] >= 0) diagonals.insert(ordered(c[k], c[k + 2]));
+  }
+  // a vertex's sides pointing opposite ways join its two neighbours along one yarn
+  std::vector<std::vector<int>> next(size_t(mesh.vertex_count()));
+  for (const auto& [a, b] : sides) {
+    next[size_t(a)].push_back(b);
+    next[size_t(b)].push_back(a);
+  }
+  std::set<std::array<int, 2>> bends;
+  for (int v = 0; v < mesh.vertex_count(); ++v)
+    for (size_t i = 0; i < next[size_t(v)].size(); ++i)
+      for (size_t j = i + 1; j < next[size_t(v)].size(); ++j) {
+        const int a = next[size_t(v)][i], b = next[size_t(v)][j];
+        const Vector3 da = mesh.x.col(a) - mesh.x.col(v), db = mesh.x.col(b) - mesh.x.col(v);
+        if (da.dot(db) < -0.99 * da.norm() * db.norm()) bends.insert(ordered(a, b));
+      }
+  LatticeLinks out;
+  out.structural.assign(sides.begin(), sides.end());
+  out.shear.assign(diagonals.begin(), diagonals.end());
+  out.bend.assign(bends.begin(), bends.end());
+  return out;
+}
 
 MeshEdges mesh_edges(const TriangleMesh& mesh) {
   // every triangle side as (low, high, triangle, opposite vertex), sorted so equal edges meet

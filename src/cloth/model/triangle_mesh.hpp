@@ -19,6 +19,10 @@ struct TriangleMesh {
   std::vector<std::array<int, 3>> triangles;  ///< #T vertex indices (0-based), file order
   std::vector<std::pair<std::string, std::vector<int>>> groups;  ///< named vertex groups
                                                                  ///< (OBJ g/o), sorted indices
+  /// a generated grid lattice's squares (MeshLattice::grid): four corners in cyclic order,
+  /// -1 for a corner the rectangle's edge cuts off (a half square); empty for other meshes,
+  /// whose springs follow their edges
+  std::vector<std::array<int, 4>> cells;
 
   /// Number of vertices (#V).
   int vertex_count() const { return static_cast<int>(x.cols()); }
@@ -38,6 +42,18 @@ struct MeshEdges {
 /// The edges and bend pairs of mesh, in a deterministic order (edges sorted by (a, b)).
 /// Edges of more than two triangles (refused by check_mesh) get no bend pair.
 MeshEdges mesh_edges(const TriangleMesh& mesh);
+
+/// The springs' support of a grid lattice (mesh.cells), like a grid's: pairs (a, b), a < b,
+/// sorted, each once.
+struct LatticeLinks {
+  std::vector<std::array<int, 2>> structural;  ///< the squares' sides (along the yarns)
+  std::vector<std::array<int, 2>> shear;       ///< both diagonals of each square (one of a half)
+  std::vector<std::array<int, 2>> bend;        ///< particles two sides apart along a yarn
+};
+
+/// The lattice links of mesh.cells (all empty when it has none). A bend pair is two sides of
+/// one vertex pointing opposite ways at rest (cosine below -0.99), so it follows the yarn.
+LatticeLinks lattice_links(const TriangleMesh& mesh);
 
 /// #V lumped masses (kg): a third of each triangle's area times areal_density (kg/m^2) to
 /// each of its three vertices; a vertex in no triangle gets 0.

@@ -151,6 +151,31 @@ OutputFile overhangs_file() {
             "standard_overhang interpolates the chord angle linearly"}}};
 }
 
+// bias.csv: the bias-extension curves
+OutputFile bias_file() {
+  return {"bias.csv",
+          "clothbench run, in the run folder, when the scenario's [test] is a bias-extension",
+          "one frame of one engine's bias-extension curve (force and shear force for the custom "
+          "engines alone: the other engines' forces are not the scene's springs)",
+          {kEngine,
+           kT,
+           {"displacement", "m", "the handle's prescribed displacement d along x"},
+           {"force", "N",
+            "the springs' elastic force along x across the specimen's central section (the "
+            "clamp force, quasi-static); empty for a non-custom engine"},
+           {"angle_pin_jointed", "rad",
+            "the central zone's shear angle of the pin-jointed net at d: pi/2 - 2 acos[(H - W "
+            "+ d) / (sqrt(2) (H - W))] (Cao et al. 2008)"},
+           {"angle", "rad",
+            "the central zone's shear angle measured from its particles: pi/2 less the angle "
+            "between the deformed yarn directions of its least-squares affine map"},
+           {"shear_force", "N/m",
+            "shear force per unit length at the measured angle, normalised by the zones' "
+            "energy balance (docs/methods.md); empty for a non-custom engine"},
+           {"shear_force_pin_jointed", "N/m",
+            "the same normalisation at the pin-jointed angle; empty for a non-custom engine"}}};
+}
+
 // the run's comparisons: each engine against the reference, its shapes, the attribution
 std::vector<OutputFile> comparison_files() {
   return {{"tests.csv",
@@ -165,12 +190,16 @@ std::vector<OutputFile> comparison_files() {
              "drape_coefficient, folds (local "
              "maxima of the outline's radius around the support's axis, smoothed over 10 "
              "degrees), min_radius and max_radius of that smoothed outline; strip-tensile: "
-             "tensile_stiffness, fit_strain, max_strain, max_force_per_width"},
+             "tensile_stiffness, fit_strain, max_strain, max_force_per_width; bias-extension: "
+             "shear_stiffness (at the measured angle), shear_stiffness_pin_jointed, fit_angle, "
+             "final_shear_angle (measured), "
+             "final_shear_angle_pin_jointed, max_force"},
             {"value", "as unit",
              "the metric's value; empty when undefined (the run blew up, "
              "a chord angle the elastica cannot invert, fewer than 3 frames in a tensile fit, "
              "or an engine whose forces are not the scene's springs)"},
-            {"unit", "text", "the value's unit: deg, m, N m, N/m, 1 or count"}}},
+            {"unit", "text", "the value's unit: deg, m, N, N m, N/m, N/m/rad, 1 or count"}}},
+          bias_file(),
           {"tensile.csv",
            "clothbench run, in the run folder, when the scenario's [test] is a strip-tensile",
            "one frame of one custom engine's force-strain curve (the other engines' forces are "

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "cloth/model/triangle_mesh.hpp"
+#include "harness/fabric/bias_metrics.hpp"
 #include "harness/fabric/drape_metrics.hpp"
 #include "harness/fabric/tensile_metrics.hpp"
 
@@ -71,8 +72,34 @@ std::vector<TensilePoint> strip_tensile_curve(const RunResult& result, const Eng
   return tensile_curve(model.springs, model.x0, setup, handle.motion, t, x);
 }
 
+std::vector<BiasPoint> bias_extension_curve(const RunResult& result, const EngineRun& run) {
+  const Scenario& sc = result.scenario;
+  if (sc.test.kind != "bias-extension" || run.positions.size() != run.frames.size()) return {};
+  const cloth::Vector3 across =
+      sc.mesh.shape.plane == cloth::Plane::xy ? cloth::Vector3::UnitY() : cloth::Vector3::UnitZ();
+  const cloth::Handle& handle = sc.scene.handles.at(0);
+  const BiasSetup setup =
+      bias_setup(result.model.x0, sc.scene.held, handle.particles, cloth::Vector3::UnitX(), across);
+  // the springs the engine ran: its own with overrides
+  cloth::Model own;
+  const cloth::Model& model = engine_model(result, run, own);
+  std::vector<double> t;
+  std::vector<cloth::Matrix3X> x;
+  for (size_t k = 0; k < run.frames.size() && run.frames[k].stable; ++k) {
+    t.push_back(run.frames[k].t);
+    x.push_back(run.positions[k]);
+  }
+  std::vector<BiasPoint> curve = bias_curve(model.springs, model.x0, setup, handle.motion, t, x);
+  // another engine's forces are not the scene's springs: its angles alone
+  if (run.spec.kind != EngineKind::custom)
+    for (BiasPoint& p : curve) p.force = p.shear_force = p.shear_force_pin = NAN;
+  return curve;
+}
+
 std::vector<TestMetric> test_metrics(const RunResult& result, const EngineRun& run) {
   if (result.scenario.test.kind.empty()) return {};
+  if (result.scenario.test.kind == "bias-extension")
+    return bias_rows(bias_extension_curve(result, run), result.scenario.test.fit_angle);
   // a strip-tensile's from its curve up to a blow-up, if any
   if (result.scenario.test.kind == "strip-tensile")
     return tensile_rows(strip_tensile_curve(result, run), result.scenario.test.fit_strain);
@@ -109,6 +136,8 @@ std::vector<std::string> metric_names(const Scenario& s) {
     for (const TestMetric& row : standard_rows(OverhangSequence{})) names.push_back(row.metric);
   if (s.test.kind == "strip-tensile")
     for (const TestMetric& row : tensile_rows({}, s.test.fit_strain)) names.push_back(row.metric);
+  if (s.test.kind == "bias-extension")
+    for (const TestMetric& row : bias_rows({}, s.test.fit_angle)) names.push_back(row.metric);
   if (s.test.kind == "drape") {
     DrapeProfile flat;
     flat.radius.assign(kDrapeProfileBins, 0.0);

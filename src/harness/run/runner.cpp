@@ -562,10 +562,23 @@ void write_overhangs(const RunResult& result, CsvWriter& out) {
           .end_row();
 }
 
+/// bias.csv's rows of one engine: its bias-extension curve, undefined values empty.
+void write_bias_rows(const RunResult& result, const EngineRun& run, CsvWriter& bias) {
+  for (const BiasPoint& p : bias_extension_curve(result, run)) {
+    bias.add(run.spec.name).add(p.t).add(p.displacement);
+    for (double v : {p.force, p.angle_pin, p.angle, p.shear_force, p.shear_force_pin})
+      if (std::isfinite(v))
+        bias.add(v);
+      else
+        bias.skip();
+    bias.end_row();
+  }
+}
+
 /// tests.csv: the [test]'s metrics of every engine (empty values where undefined, e.g. for a
 /// run that did not end stable: its final shape is not a settled one); tensile.csv, when given,
-/// the strip-tensile curves.
-void write_tests(const RunResult& result, CsvWriter& tests, CsvWriter* tensile) {
+/// the strip-tensile curves; bias, when given, the bias-extension curves.
+void write_tests(const RunResult& result, CsvWriter& tests, CsvWriter* tensile, CsvWriter* bias) {
   for (const EngineRun& run : result.runs) {
     for (const TestMetric& row : test_metrics(result, run)) {
       tests.add(run.spec.name).add(row.metric);
@@ -575,6 +588,7 @@ void write_tests(const RunResult& result, CsvWriter& tests, CsvWriter* tensile) 
         tests.skip();
       tests.add(row.unit).end_row();
     }
+    if (bias) write_bias_rows(result, run, *bias);
     if (!tensile) continue;
     for (const TensilePoint& p : strip_tensile_curve(result, run))
       tensile->add(run.spec.name).add(p.t).add(p.strain).add(p.force_per_width).end_row();
@@ -625,12 +639,14 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   AtomicFile info(dir + "run.json");
   info.write(run_info_json(self_collision_json(result.scenario)));
   // the [test]'s metrics, when the scenario has one
-  std::unique_ptr<CsvWriter> tests, tensile;
+  std::unique_ptr<CsvWriter> tests, tensile, bias;
   if (result.scenario.test.kind == "strip-tensile")
     tensile = std::make_unique<CsvWriter>(dir + "tensile.csv", output_header("tensile.csv"));
+  if (result.scenario.test.kind == "bias-extension")
+    bias = std::make_unique<CsvWriter>(dir + "bias.csv", output_header("bias.csv"));
   if (!result.scenario.test.kind.empty()) {
     tests = std::make_unique<CsvWriter>(dir + "tests.csv", output_header("tests.csv"));
-    write_tests(result, *tests, tensile.get());
+    write_tests(result, *tests, tensile.get(), bias.get());
   }
   std::unique_ptr<CsvWriter> overhangs;
   if (!result.overhangs.empty()) {
@@ -654,6 +670,7 @@ void write_run_files(const RunResult& result, const std::string& dir) {
   if (tests) tests->commit();
   if (tensile) tensile->commit();
   if (overhangs) overhangs->commit();
+  if (bias) bias->commit();
   for (auto& f : trajectory) f->commit();
 }
 
@@ -667,6 +684,7 @@ void write_run(const RunResult& result, const std::string& out) {
   staged.owns("tests.csv");  // the new run's [test] metrics, or none
   staged.owns("tensile.csv");
   staged.owns("overhangs.csv");  // the new run's sequence of overhangs, or none
+  staged.owns("bias.csv");
   try {
     write_run_files(result, staged.path());
   } catch (const UserError& e) {

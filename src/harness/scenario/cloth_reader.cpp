@@ -125,18 +125,22 @@ void read_structural(const Reader& r, const At& sat, bool mesh, bool fabric,
   c.k_structural_v = kv;
 }
 
-/// cloth.stiffness, cloth.damping and cloth.air_drag; a mesh has no shear springs. With a
+/// cloth.stiffness, cloth.damping and cloth.air_drag; a mesh has no shear springs but a
+/// generated grid lattice (lattice = "grid"), which has them on its squares' diagonals. With a
 /// fabric, c holds its springs and each key given overrides one.
-void read_material(const Reader& r, const At& at, bool mesh, bool fabric, cloth::ClothParams& c) {
+void read_material(const Reader& r, const At& at, const Scenario& s, bool fabric,
+                   cloth::ClothParams& c) {
+  const bool mesh = s.scene.mesh != nullptr;
+  const bool lattice = mesh && !s.scene.mesh->cells.empty();
   // a stiffness table names the spring kinds there are; an omitted kind has no springs (with a
   // fabric: keeps the fabric's)
   if (const toml::table* st = r.table(at, "stiffness")) {
     const At sat{*st, "cloth.stiffness"};
     r.check_keys(sat, kStiffnessKeys);
-    if (mesh && st->get("shear"))
+    if (mesh && !lattice && st->get("shear"))
       r.fail(st->get("shear"), "cloth.stiffness.shear",
              "a mesh has no shear springs: one structural spring per edge and one bend spring "
-             "per interior edge; leave shear out");
+             "per interior edge (but a [cloth.generate] lattice = \"grid\"); leave shear out");
     read_structural(r, sat, mesh, fabric, c);
     c.k_shear = r.number(sat, "shear", fabric && !mesh ? c.k_shear : 0.0, kNonNegative);
     c.k_bend = r.number(sat, "bend", fabric ? c.k_bend : 0.0, kNonNegative);
@@ -230,6 +234,9 @@ cloth::ShapeSpec read_shape(const Reader& r, const toml::table& t) {
   s.seed = static_cast<std::uint64_t>(r.integer(at, "seed", 1, 0));
   s.center = r.vec3(at, "center", s.center);
   s.plane = *parse_plane(r.choice(at, "plane", plane_name(s.plane), kPlanes));
+  const bool grid = r.choice(at, "lattice", "triangular", kLattices) == "grid";
+  s.lattice = grid ? cloth::MeshLattice::grid : cloth::MeshLattice::triangular;
+  s.lattice_angle = r.number(at, "lattice_angle", s.lattice_angle, kMultipleOf45);
   return s;
 }
 
@@ -304,12 +311,17 @@ void read_cloth(const Reader& r, const toml::table* table, Scenario& s) {
   }
   // a fabric's density unless the mass is given; its springs at the resolution and mass read
   const Fabric* fabric = read_fabric(r, at);
+  // the presets' mapping is a grid's or a triangle mesh's, not a grid lattice's
+  if (fabric && s.scene.mesh && !s.scene.mesh->cells.empty())
+    r.fail(table->get("fabric"), "cloth.fabric",
+           "expected no fabric on a [cloth.generate] lattice = \"grid\" (the presets are mapped "
+           "onto grids and triangle meshes only); give its stiffness instead");
   const toml::table& t = *table;
   if (fabric && !t.get("areal_density") && !t.get("total_mass") && !t.get("particle_mass"))
     c.areal_density = fabric->areal_density;
   read_mass(r, at, s.scene.mesh != nullptr, c);
   const FabricSprings fs = fabric ? apply_fabric(r, at, *fabric, s) : FabricSprings{};
-  read_material(r, at, s.scene.mesh != nullptr, fabric != nullptr, c);
+  read_material(r, at, s, fabric != nullptr, c);
   // the preset's damping follows the structural springs finally chosen
   if (fabric && !t.get("damping")) c.damping = fabric_damping(c.k_structural, fs.particle_mass);
 }

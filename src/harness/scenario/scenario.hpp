@@ -76,14 +76,17 @@ struct MeshSource {
 /// loader checks it and adds none). kind "drape" (the Cusick test, BS 5058): a specimen hung
 /// from a held support ([[constraint]] within or disk). kind "strip-tensile" (ISO 13934-1
 /// strip): a grid held on all axes at one end (the clamp) and pulled along direction by its one
-/// handle at the other; tensile.csv gets the force-strain curve. The metrics go to tests.csv.
+/// handle at the other; tensile.csv gets the force-strain curve. kind "bias-extension": a
+/// generated grid lattice at 45 degrees, clamped alike and pulled along x (u); bias.csv gets
+/// the force, angles and shear force. The metrics go to tests.csv.
 struct TestSpec {
-  std::string kind;             // "" (no test), "cantilever", "drape" or "strip-tensile"
+  std::string kind;             // "", "cantilever", "drape", "strip-tensile" or "bias-extension"
   double edge = 0.0;            // m, cantilever: the platform's edge along x
   std::string direction = "u";  // strip-tensile: the grid axis pulled along, "u" or "v"
   double fit_strain = 0.01;     // 1, strip-tensile: the strain range (0, fit_strain] of the slope
   std::string overhang_rule = "fixed";  // cantilever: "fixed" (the scene's overhang alone) or
                                         // "standard" (the sequence of overhangs to 41.5 deg)
+  double fit_angle = 5.0;       // degrees, bias-extension: the angle range (0, fit_angle] of it
 };
 
 /// Everything a run needs; every key of the scenario file has a field here, and so has the

@@ -38,9 +38,11 @@ const Keys kClothKeys = {"particles",        "size",       "center",        "pla
                          "self_collision",   "thickness",  "self_friction", "bend_model",
                          "bending_rigidity", "fabric"};
 const Keys kBendModels = {"springs", "hinge"};
-const Keys kGenerateKeys = {"shape",       "radius", "inner_radius", "size", "length",
-                            "edge_length", "seed",   "center",       "plane"};
-const Keys kTestKeys = {"kind", "edge", "direction", "fit_strain", "overhang_rule"};
+const Keys kGenerateKeys = {"shape",  "radius",      "inner_radius", "size",
+                            "length", "edge_length", "seed",         "center",
+                            "plane",  "lattice",     "lattice_angle"};
+const Keys kLattices = {"triangular", "grid"};
+const Keys kTestKeys = {"kind", "edge", "direction", "fit_strain", "overhang_rule", "fit_angle"};
 const Keys kOverhangRules = {"fixed", "standard"};
 const Keys kTensileDirections = {"u", "v"};
 const Keys kTestKinds = {"cantilever", "drape", "strip-tensile", "bias-extension"};

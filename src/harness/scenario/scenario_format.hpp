@@ -26,6 +26,7 @@ extern const Keys kStiffnessKeys;
 /// Values of cloth.bend_model.
 extern const Keys kBendModels;
 extern const Keys kGenerateKeys;  // [cloth.generate]
+extern const Keys kLattices;      // [cloth.generate] lattice
 extern const Keys kConstraintKeys;
 extern const Keys kSphereKeys;
 extern const Keys kColliderKeys;  // keys every [[plane]], [[box]], [[capsule]], [[cylinder]] has

@@ -157,8 +157,9 @@ void test_keys(std::vector<ScenarioKey>& out) {
   r.choice("kind", "none (required)", kTestKinds,
            "the test: \"cantilever\" (ASTM D1388 option A, fixed overhang), \"drape\" (the "
            "Cusick test, BS 5058: a specimen hung from a support held by a [[constraint]] within "
-           "or disk) or \"strip-tensile\" (ISO 13934-1 strip); \"bias-extension\" is refused "
-           "so far");
+           "or disk), \"strip-tensile\" (ISO 13934-1 strip) or \"bias-extension\" (a "
+           "[cloth.generate] rectangle, lattice = \"grid\" at 45 degrees, clamped like the "
+           "strip and pulled along x)");
   r.number("edge", "m", t.edge, kAnyNumber,
            "cantilever: the platform's edge; the strip lies along +x and every particle at rest "
            "x <= edge must be held on x, y and z by a [[constraint]]");
@@ -174,6 +175,10 @@ void test_keys(std::vector<ScenarioKey>& out) {
            "the overhang at which the settled chord angle reaches 41.5 degrees (ASTM D1388, BS "
            "3356) by a sequence of settled runs with the held edge moved column by column, and "
            "reports c = l / 2 there (bending_length_standard, overhangs.csv)");
+  r.number("fit_angle", "degrees", t.fit_angle, kPositive,
+           "bias-extension: shear_stiffness is the least-squares slope of shear force per unit "
+           "length against the central zone's measured shear angle over the frames with "
+           "0 < angle <= fit_angle");
 }
 
 void generate_keys(std::vector<ScenarioKey>& out) {
@@ -191,6 +196,13 @@ void generate_keys(std::vector<ScenarioKey>& out) {
   r.vector("center", "m", g.center, "centre of the shape");
   r.choice("plane", quoted(plane_name(g.plane)), kPlanes,
            "disk, annulus, rectangle: xz horizontal, xy vertical");
+  r.choice("lattice", quoted(cloth::mesh_lattice_name(g.lattice)), kLattices,
+           "rectangle: \"triangular\" (jittered, Delaunay) or \"grid\": squares of side "
+           "edge_length (yarns) split in two triangles, springs like a grid's (structural along "
+           "the yarns, shear on both diagonals, bend two sides apart); the rectangle's edges cut "
+           "squares in half at 45 degrees");
+  r.number("lattice_angle", "degrees", g.lattice_angle, kMultipleOf45,
+           "lattice = \"grid\": the yarns' angle to u, a multiple of 45 (45: a bias specimen)");
 }
 
 void cloth_keys(std::vector<ScenarioKey>& out) {

@@ -157,7 +157,9 @@ void write_cloth(std::ostream& o, const Scenario& s) {
       << ", structural_v = " << d(c.structural_v());
   else
     o << "stiffness = { structural = " << d(c.k_structural);
-  if (!s.mesh.any()) o << ", shear = " << d(c.k_shear);
+  // shear springs: a grid's, or a generated grid lattice's
+  const bool lattice = s.mesh.generated && s.mesh.shape.lattice == cloth::MeshLattice::grid;
+  if (!s.mesh.any() || lattice) o << ", shear = " << d(c.k_shear);
   o << ", bend = " << d(c.k_bend) << " }  # N/m\n";
   if (c.bend_model == cloth::BendModel::hinge)
     o << "bend_model = \"hinge\"\nbending_rigidity = " << d(c.bending_rigidity) << "  # N m\n";
@@ -179,6 +181,8 @@ void write_cloth(std::ostream& o, const Scenario& s) {
     << "seed = " << g.seed << "\n"
     << "center = " << vec3(g.center) << "  # m\n"
     << "plane = " << toml_string(plane_name(g.plane)) << "\n";
+  if (g.lattice == cloth::MeshLattice::grid)
+    o << "lattice = \"grid\"\nlattice_angle = " << d(g.lattice_angle) << "  # degrees\n";
 }
 
 }  // namespace
@@ -217,6 +221,8 @@ std::string scenario_to_toml(const Scenario& s) {
   if (s.test.kind == "strip-tensile")
     o << "direction = " << toml_string(s.test.direction)
       << "\nfit_strain = " << d(s.test.fit_strain) << "\n";
+  if (s.test.kind == "bias-extension")
+    o << "fit_angle = " << d(s.test.fit_angle) << "  # degrees\n";
 
   for (const EngineSpec& e : s.engines) {
     o << "\n[[engine]]\n"

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cloth/model/mesh_generator.hpp"
 #include "cloth/model/model.hpp"
 #include "harness/scenario/scenario_format.hpp"
 
@@ -54,7 +55,7 @@ void check_cantilever(const Reader& r, const toml::table& t, const toml::table& 
 /// weight.
 void check_drape(const Reader& r, const toml::table& t, const toml::table& root,
                  const Scenario& s) {
-  for (const char* key : {"edge", "direction", "fit_strain", "overhang_rule"})
+  for (const char* key : {"edge", "direction", "fit_strain", "overhang_rule", "fit_angle"})
     if (t.get(key))
       r.fail(t.get(key), std::string("test.") + key,
              std::string("expected no ") + key + " with a drape test (it is another test's key)");
@@ -122,6 +123,70 @@ void check_strip_tensile(const Reader& r, const toml::table& t, const toml::tabl
                toml_string(s.test.direction));
 }
 
+/// The bias-extension's specimen: a generated rectangle of yarns at 45 degrees, at least
+/// twice as long (u, x) as wide.
+void check_bias_specimen(const Reader& r, const toml::table& t, const Scenario& s) {
+  const cloth::ShapeSpec& g = s.mesh.shape;
+  const bool bias = s.mesh.generated && g.shape == cloth::MeshShape::rectangle &&
+                    g.lattice == cloth::MeshLattice::grid &&
+                    std::lround(g.lattice_angle / 45.0) % 2 != 0;
+  if (!bias)
+    r.fail(t.get("kind"), "test.kind",
+           "expected the bias-extension specimen as a [cloth.generate] shape = \"rectangle\" "
+           "with lattice = \"grid\" and lattice_angle = 45 (yarns at +-45 degrees to its length, "
+           "u)");
+  if (!(g.size_u >= 2 * g.size_v))
+    r.fail(t.get("kind"), "test.kind",
+           "expected the bias-extension specimen at least twice as long (size u, along x) as "
+           "wide (size v), got " +
+               toml_double(g.size_u) + " m by " + toml_double(g.size_v) +
+               " m (the central zone is in pure shear only then)");
+}
+
+/// The bias-extension's checks: its specimen, a clamp held on every axis, one handle beyond
+/// it that pulls along x, a central zone to measure.
+void check_bias_extension(const Reader& r, const toml::table& t, const toml::table& root,
+                          const Scenario& s) {
+  for (const char* key : {"edge", "direction", "fit_strain"})
+    if (t.get(key))
+      r.fail(t.get(key), std::string("test.") + key,
+             std::string("expected no ") + key +
+                 " with a bias-extension test (it is another test's key)");
+  check_bias_specimen(r, t, s);
+  if (s.scene.handles.size() != 1)
+    r.fail(root.get("handle") ? root.get("handle") : &t, "handle",
+           "expected one [[handle]] with a bias-extension test (the moving clamp), got " +
+               std::to_string(s.scene.handles.size()));
+  if (!pulls_along(s.scene.handles[0].motion, cloth::Vector3::UnitX()))
+    r.fail(root.get("handle"), "handle.path",
+           "expected the bias-extension handle to move forward along x alone (the specimen's "
+           "length, u)");
+  // the clamp before the handle
+  const cloth::Matrix3X x0 = cloth::rest_positions(s.scene);
+  double clamp = -HUGE_VAL, handle = HUGE_VAL;
+  for (Eigen::Index p = 0; p < x0.cols(); ++p)
+    if (size_t(p) < s.scene.held.size() && s.scene.held[size_t(p)] == cloth::kHoldAll)
+      clamp = std::max(clamp, x0(0, p));
+  for (int p : s.scene.handles[0].particles) handle = std::min(handle, x0(0, p));
+  if (!std::isfinite(clamp) || !(clamp < handle))
+    r.fail(t.get("kind"), "test.kind",
+           "expected particles held on x, y and z by a [[constraint]] (the fixed clamp), all "
+           "of them before the handle's particles along x");
+  // the central zone the angle is measured on: within W/4 of the middle along and across
+  const cloth::ShapeSpec& g = s.mesh.shape;
+  const int across = g.plane == cloth::Plane::xy ? 1 : 2;
+  const double mid = 0.5 * (clamp + handle), quarter = 0.25 * g.size_v * (1 + 1e-12);
+  int central = 0;
+  for (Eigen::Index p = 0; p < x0.cols(); ++p)
+    central += std::abs(x0(0, p) - mid) <= quarter &&
+               std::abs(x0(across, p) - g.center[across]) <= quarter;
+  if (central < 3)
+    r.fail(t.get("kind"), "test.kind",
+           "expected at least 3 particles within a quarter of the width of the specimen's "
+           "middle (the central zone whose shear angle is measured), got " +
+               std::to_string(central) + ": a smaller edge_length");
+}
+
 }  // namespace
 
 void read_test(const Reader& r, const toml::table& root, Scenario& s) {
@@ -132,11 +197,12 @@ void read_test(const Reader& r, const toml::table& root, Scenario& s) {
   if (!t->get("kind")) r.fail(t, "test.kind", "expected a kind, got none");
   s.test.kind = r.choice(at, "kind", "", kTestKinds);
   if (s.test.kind == "drape") return check_drape(r, *t, root, s);
-  if (s.test.kind != "cantilever" && s.test.kind != "strip-tensile")
-    r.fail(t->get("kind"), "test.kind",
-           "the " + toml_string(s.test.kind) +
-               " test is not yet measured by the harness (\"cantilever\", \"drape\" and "
-               "\"strip-tensile\" are)");
+  s.test.fit_angle = r.number(at, "fit_angle", s.test.fit_angle, kPositive);
+  if (s.test.kind == "bias-extension") return check_bias_extension(r, *t, root, s);
+  if (t->get("fit_angle"))
+    r.fail(t->get("fit_angle"), "test.fit_angle",
+           "expected no fit_angle with a " + toml_string(s.test.kind) +
+               " test (it is the bias-extension's key)");
   s.test.edge = r.number(at, "edge", s.test.edge, kAnyNumber);
   s.test.direction = r.choice(at, "direction", s.test.direction, kTensileDirections);
   s.test.fit_strain = r.number(at, "fit_strain", s.test.fit_strain, kPositive);

@@ -12,9 +12,10 @@ namespace clothbench {
 
 /// Fills s.test from root's [test] (nothing when there is none); s.scene (its constraints
 /// included) must be read already. kind = "cantilever" needs a particle at rest x <= edge, one
-/// beyond it, every particle at rest x <= edge held on all axes, and a non-zero gravity; the
-/// other kinds of the issue are refused as not yet measured. Throws ScenarioError naming the
-/// key otherwise.
+/// beyond it, every particle at rest x <= edge held on all axes, and a non-zero gravity;
+/// "bias-extension" a generated rectangle with lattice = "grid" at 45 degrees at least twice
+/// as long (x) as wide, a clamp held on all axes and one handle pulling along +x beyond it.
+/// Throws ScenarioError naming the key otherwise.
 void read_test(const Reader& r, const toml::table& root, Scenario& s);
 
 }  // namespace clothbench

@@ -56,6 +56,10 @@ inline const Bound kSize{"0, or from 1e-6 to 1e4",
 inline const Bound kMass{"from 1e-9 to 1e6", [](double x) { return x >= 1e-9 && x <= 1e6; }};
 inline const Bound kShell{"from 0 to 1", [](double x) { return x >= 0 && x <= 1; }};
 inline const Bound kAcceleration{"from -1e4 to 1e4", [](double x) { return std::abs(x) <= 1e4; }};
+// a grid lattice's angle: the rectangle's edges along the yarns or the squares' diagonals
+inline const Bound kMultipleOf45{
+    "a multiple of 45 from -360 to 360",
+    [](double x) { return std::abs(x) <= 360 && std::abs(x / 45 - std::round(x / 45)) <= 1e-12; }};
 
 inline std::string expected_number(const Bound& b) {
   return *b.text ? std::string("a number ") + b.text : std::string("a finite number");
