@@ -86,7 +86,7 @@ struct TestSpec {
   double fit_strain = 0.01;     // 1, strip-tensile: the strain range (0, fit_strain] of the slope
   std::string overhang_rule = "fixed";  // cantilever: "fixed" (the scene's overhang alone) or
                                         // "standard" (the sequence of overhangs to 41.5 deg)
-  double fit_angle = 5.0;       // degrees, bias-extension: the angle range (0, fit_angle] of it
+  double fit_angle = 5.0;  // degrees, bias-extension: the angle range (0, fit_angle] of it
 };
 
 /// Everything a run needs; every key of the scenario file has a field here, and so has the
