@@ -72,7 +72,7 @@ TEST_CASE("contacts in the solve take energy out of a heavy drape at 1/30 s, nev
   const Scene s = seed_scene(25);
   auto largest_gain = [&](bool in_solve) {
     SolverOptions o = line_search_options(LinearSolver::block_jacobi_cg);
-    o.contacts_in_solve = in_solve;
+    o.contacts = in_solve ? ContactMode::in_solve : ContactMode::after_step;
     MassSpringCloth c(s, o);
     const double e0 = mechanical_energy(c);
     double gain = 0.0;

@@ -51,7 +51,7 @@ TEST_CASE("after set_state the next steps depend on the state alone", "[integrat
     name = integrator_name(o.integrator);
   } else {
     o = line_search_options();
-    o.contacts_in_solve = true;
+    o.contacts = cloth::ContactMode::in_solve;
   }
   const double h = 0.005;
   const int later = 5;  // steps compared after the state is set

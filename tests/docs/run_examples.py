@@ -150,7 +150,8 @@ def main():
         for b in chosen:
             if b.page not in folders:
                 folders[b.page] = pathlib.Path(tempfile.mkdtemp(prefix="page-", dir=work))
-                (folders[b.page] / "scenarios").symlink_to(source / "scenarios")
+                for shared in ("scenarios", "examples"):
+                    (folders[b.page] / shared).symlink_to(source / shared)
             problems = run_block(b, folders[b.page], env)
             print("%s %s:%d (%d commands)" % ("FAIL" if problems else "ok  ", b.page, b.line,
                                               len(b.steps)))

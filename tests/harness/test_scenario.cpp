@@ -124,7 +124,7 @@ void check_same_scenario(const Scenario& a, const Scenario& b) {
     CHECK(e.solver.cg_tolerance == f.solver.cg_tolerance);
     CHECK(e.solver.cg_max_iterations == f.solver.cg_max_iterations);
     CHECK(e.solver.cg_forcing == f.solver.cg_forcing);
-    CHECK(e.solver.contacts_in_solve == f.solver.contacts_in_solve);
+    CHECK(e.solver.contacts == f.solver.contacts);
     CHECK(e.solver.clamp_compressed == f.solver.clamp_compressed);
     CHECK(e.solver.clamped_iterations == f.solver.clamped_iterations);
     CHECK(e.solver.linear_solver == f.solver.linear_solver);

@@ -32,6 +32,7 @@ ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o,
                                          LinearSolver solver)
     : m_matrix(m, solver == LinearSolver::ldlt),
       m_solver(m, solver),
+      m_barrier(m),
       m_direct(solver == LinearSolver::ldlt) {
   const Eigen::Index n = m.particle_count();
   for (Matrix3X* a :
@@ -56,7 +57,9 @@ double ImplicitEulerNewton::objective(const Model& m, double h, const Matrix3X& 
   // drag's potential: c |v - wind|^2 less the constant c |wind|^2
   const double rayleigh = -v.cwiseProduct(m_damp).sum() + m.air_drag * v.squaredNorm() -
                           2.0 * m.air_drag * m.wind.dot(v.rowwise().sum());
-  return 0.5 * inertia + elastic_energy(m.springs, m_x) + 0.5 * h * rayleigh;
+  const double contact =
+      m_use_barrier ? m_barrier.energy(m, m_t_end, m_x) + m_friction.energy(v) : 0.0;
+  return 0.5 * inertia + elastic_energy(m.springs, m_x) + 0.5 * h * rayleigh + contact;
 }
 
 double ImplicitEulerNewton::residual(const Model& m, double h, const Matrix3X& v) {
@@ -67,6 +70,11 @@ double ImplicitEulerNewton::residual(const Model& m, double h, const Matrix3X& v
   add_jacobian_product(m.springs, m_lin0, v, 0.0, 1.0, m_force, m_buf);
   m.add_drag(v, m_force);
   for (int r = 0; r < 3; ++r) m_force.row(r) += m.gravity[r] * m.mass.transpose();
+  if (m_use_barrier) {
+    m_barrier.contacts(m, m_t_end, m_x, m_barrier_contacts);
+    ColliderBarrier::add_forces(m_barrier_contacts, m_force);
+    m_friction.add_forces(v, m_force);
+  }
   // rhs = -grad Phi = h f - M (v - v0), zero on held axes
   for (int r = 0; r < 3; ++r)
     m_rhs.row(r) = h * m_force.row(r) - (v.row(r) - m_v0.row(r)).cwiseProduct(m.mass.transpose());
@@ -107,8 +115,14 @@ void ImplicitEulerNewton::start_step(const Model& m, const SolverOptions& o, dou
   m_v0 = v;
   m_v = v;
   m_contacts.clear();
+  m_barrier_contacts.clear();
+  m_t_end = t_end;
+  m_lift_work = 0.0;
   m_solver.start_step();
-  if (o.contacts_in_solve) find_contact_constraints(m, t_end, h, x, v, m_released, m_contacts);
+  if (o.contacts == ContactMode::in_solve)
+    find_contact_constraints(m, t_end, h, x, v, m_released, m_contacts);
+  m_use_barrier = o.contacts == ContactMode::barrier && !m_barrier.empty();
+  if (m_use_barrier) start_barrier(m, t_end, h);
   // the first guess x0 + h v0, with each contact's normal velocity fixed
   for (const ContactConstraint& c : m_contacts)
     m_v.col(c.particle) += (c.normal_velocity - c.normal.dot(m_v.col(c.particle))) * c.normal;
@@ -131,6 +145,7 @@ void ImplicitEulerNewton::newton_direction(const Model& m, const SolverOptions& 
   else
     m_matrix.assemble_diagonal_blocks(m, m_lin, m_lin0, h);
   m_matrix.apply_contacts(m, m_contacts, m_direct);
+  if (m_use_barrier) add_barrier_blocks(h);
   CgResult cg;
   if (exact) {
     cg = m_solver.solve(m, m_matrix, m_lin_exact, m_lin, m_lin0, h, m_rhs, m_dv, eta,
@@ -186,6 +201,7 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
     m_history.push_back(m_phi);
   }
   finish_contacts(x.cols());
+  if (m_use_barrier) finish_barrier(h);
   // held axes have v = 0 exactly, so x stays x0 there
   x = m_x0 + h * m_v;
   v = m_v;
@@ -203,6 +219,48 @@ void ImplicitEulerNewton::finish_contacts(Eigen::Index particles) {
     // a contact that pulled its particle in lets go next step
     if (m_impulse[k] < 0.0) m_released[c.particle] = 1;
   }
+}
+
+void ImplicitEulerNewton::start_barrier(const Model& m, double t_end, double h) {
+  // a particle on or inside a collider at the step's start is lifted out first; the lift's
+  // work is its change of the potential energies (velocities are untouched)
+  m_trial = m_x0;
+  if (m_barrier.lift_out(m, t_end - h, m_x0) > 0) {
+    double work = elastic_energy(m.springs, m_x0) - elastic_energy(m.springs, m_trial);
+    for (Eigen::Index p = 0; p < m_x0.cols(); ++p)
+      work -= m.mass[p] * m.gravity.dot(m_x0.col(p) - m_trial.col(p));
+    m_lift_work = work;
+  }
+  m_barrier.make_feasible(m, t_end, h, m_x0, m_v);
+  // friction lagged from the step's start
+  m_barrier.friction_contacts(m, t_end, h, m_x0, m_friction_found);
+  m_friction.start(m_friction_found, h);
+}
+
+void ImplicitEulerNewton::add_barrier_blocks(double h) {
+  m_block_particles.clear();
+  m_block_values.clear();
+  for (const BarrierContact& b : m_barrier_contacts) {
+    m_block_particles.push_back(b.particle);
+    m_block_values.push_back((h * h * b.stiffness) * b.normal * b.normal.transpose());
+  }
+  m_friction.add_blocks(m_v, h * h, m_block_particles, m_block_values);
+  m_matrix.add_particle_blocks(m_block_particles, m_block_values, m_direct);
+}
+
+void ImplicitEulerNewton::finish_barrier(double h) {
+  // the force at the step's end over the step's displacement h v, as backward Euler applies it
+  m_contact_work = m_lift_work;
+  for (const BarrierContact& b : m_barrier_contacts) {
+    const Vector3 impulse = (h * b.force) * b.normal;
+    m_contact_work += impulse.dot(m_v.col(b.particle));
+    m_contact_impulse += impulse;
+  }
+  if (m_friction.empty()) return;
+  m_trial.setZero();
+  m_friction.add_forces(m_v, m_trial);
+  m_contact_work += h * m_trial.cwiseProduct(m_v).sum();
+  m_contact_impulse += h * m_trial.rowwise().sum();
 }
 
 }  // namespace cloth

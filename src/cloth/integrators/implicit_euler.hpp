@@ -21,6 +21,7 @@
 #include <memory>
 #include <vector>
 
+#include "cloth/contact/contact_barrier.hpp"
 #include "cloth/model/model.hpp"
 #include "cloth/model/simulator.hpp"
 #include "cloth/solvers/implicit_matrix.hpp"
@@ -44,7 +45,7 @@ class ImplicitEulerNewton {
   ImplicitEulerNewton(const Model& m, const SolverOptions& o);
 
   /// Advances x and v (each 3 by #P) by one backward-Euler step of h seconds that ends at
-  /// t_end (s), with contacts in the solve if o.contacts_in_solve.
+  /// t_end (s), with contacts in the solve if o.contacts is in_solve or barrier.
   void step(const Model& m, const SolverOptions& o, double t_end, double h, Matrix3X& x,
             Matrix3X& v, Counters& counters);
 
@@ -57,6 +58,11 @@ class ImplicitEulerNewton {
   /// Their impulses along their normals (N s), in the same order.
   const std::vector<double>& impulses() const { return m_impulse; }
 
+  /// The last step's barrier contacts at its end (contacts = "barrier"), one per particle and
+  /// collider within the collider's margin.
+  const std::vector<BarrierContact>& barrier_contacts() const { return m_barrier_contacts; }
+  /// The particles the barrier acts on (#P flags): the others keep the contact pass.
+  const std::vector<char>& barrier_covered() const { return m_barrier.covered(); }
   /// Forgets which contacts let go at the last step (Simulator::set_state): the next step
   /// treats every contact as the first step of a run does.
   void forget_releases() { m_released.clear(); }
@@ -77,6 +83,13 @@ class ImplicitEulerNewton {
                         Counters& counters);
   /// Books the contacts' work and impulse and which contacts let go.
   void finish_contacts(Eigen::Index particles);
+  /// Books the barrier contacts' work and impulse over the step (contacts = "barrier").
+  void finish_barrier(double h);
+  /// Lifts particles that start on or inside a collider out of it, booking the energy the lift
+  /// gives; then makes the first guess feasible (contacts = "barrier").
+  void start_barrier(const Model& m, double t_end, double h);
+  /// A's barrier blocks h^2 kappa b'' n n^T at the iterate's contacts.
+  void add_barrier_blocks(double h);
   double objective(const Model& m, double h, const Matrix3X& v);
   double residual(const Model& m, double h, const Matrix3X& v);
   bool line_search(const Model& m, double h, double slope, Counters& counters);
@@ -86,6 +99,15 @@ class ImplicitEulerNewton {
   SpringLinearization m_lin0, m_lin, m_lin_exact;
   Matrix3X m_x0, m_v0, m_v, m_x, m_trial, m_dv, m_force, m_damp, m_zero, m_buf, m_rhs;
   std::vector<double> m_history;
+  ColliderBarrier m_barrier;
+  std::vector<BarrierContact> m_barrier_contacts;  // at the iterate m_v (residual())
+  std::vector<FrictionContact> m_friction_found;   // start_barrier's scratch
+  StepFriction m_friction;                         // this step's lagged friction
+  std::vector<int> m_block_particles;              // add_barrier_blocks' scratch
+  std::vector<Matrix3> m_block_values;
+  bool m_use_barrier = false;  // this step
+  double m_t_end = 0;          // s, this step's end
+  double m_lift_work = 0;      // J, start_barrier's lift of this step
   std::vector<ContactConstraint> m_contacts;
   std::vector<double> m_impulse;  // per contact, along its normal (N s)
   std::vector<char> m_released;   // per particle: its last contact pulled it in

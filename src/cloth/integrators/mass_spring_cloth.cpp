@@ -28,6 +28,12 @@ MassSpringCloth::MassSpringCloth(Model model, const SolverOptions& options)
   if (options.integrator == Integrator::implicit_euler &&
       options.newton == NewtonMethod::line_search)
     m_newton = std::make_unique<ImplicitEulerNewton>(m_model, options);
+  // the contact pass after the step: every free axis, but with a barrier in the solve only
+  // the particles it does not cover (zeroed columns: counted, never moved)
+  m_pass_free = m_model.free;
+  if (m_newton && options.contacts == ContactMode::barrier)
+    for (Eigen::Index p = 0; p < n; ++p)
+      if (m_newton->barrier_covered()[static_cast<size_t>(p)]) m_pass_free.col(p).setZero();
   // xpbd and projective work on springs alone (the loader refuses such a scene first)
   if ((options.integrator == Integrator::xpbd || options.integrator == Integrator::projective) &&
       !m_model.springs.bending.empty())
@@ -226,13 +232,13 @@ void MassSpringCloth::resolve_contacts(double h) {
     tally.touched = &m_touched;
   }
   if (!m_model.spheres.empty()) {
-    resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_model.free, &tally);
+    resolve_sphere_contacts(m_model.spheres, m_t, m_x, m_v, m_model.mass, m_pass_free, &tally);
     m_counters.contact_tests +=
         static_cast<std::int64_t>(m_model.spheres.size()) * m_model.particle_count();
   }
   if (!m_model.shapes.empty())
     m_counters.contact_tests += resolve_shape_contacts(m_model.shapes, m_t, h, m_x_start, m_x, m_v,
-                                                       m_model.free, m_model.mass, tally);
+                                                       m_pass_free, m_model.mass, tally);
   m_contacts = tally.contacts + held_in_solve_only();
   m_contact_impulse += tally.impulse;
   if (m_self) resolve_self_contact(h);

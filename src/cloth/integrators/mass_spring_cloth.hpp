@@ -109,6 +109,7 @@ class MassSpringCloth final : public Simulator {
   Matrix3X m_force, m_buf;
   Matrix3X m_x1, m_v1;                  // stage states
   Matrix3X m_x_start;                   // positions at the step's start (scenes with shapes)
+  Matrix3X m_pass_free;                 // 3 by #P: the axes the contact pass after a step moves
   Matrix3X m_k1, m_k2, m_k3, m_k4;      // stage accelerations
   Matrix3X m_rhs, m_dv, m_diag, m_tmp;  // implicit solve
   SpringLinearization m_lin;

@@ -251,4 +251,25 @@ void ImplicitMatrix::diagonal_block_inverses(SymmetricRows& inv) const {
   }
 }
 
+void ImplicitMatrix::add_particle_blocks(const std::vector<int>& particles,
+                                         const std::vector<Matrix3>& blocks, bool whole) {
+  m_extra_particles = particles;
+  m_extra_blocks = blocks;
+  double* val = whole ? m_a.valuePtr() : nullptr;
+  for (size_t k = 0; k < particles.size(); ++k) {
+    const Eigen::Index p = particles[k];
+    m_blocks.middleCols<3>(3 * p) += blocks[k];
+    if (!val) continue;
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) val[m_diag_slots[3 * p + c] + r] += blocks[k](r, c);
+  }
+}
+
+void ImplicitMatrix::add_particle_block_product(const Matrix3X& u, Matrix3X& out) const {
+  for (size_t k = 0; k < m_extra_particles.size(); ++k) {
+    const Eigen::Index p = m_extra_particles[k];
+    out.col(p) += m_extra_blocks[k] * u.col(p);
+  }
+}
+
 }  // namespace cloth

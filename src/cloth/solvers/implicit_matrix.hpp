@@ -48,6 +48,21 @@ class ImplicitMatrix {
   /// @param whole  also the assembled matrix (after assemble()), not only the diagonal blocks
   void apply_contacts(const Model& m, const std::vector<ContactConstraint>& contacts, bool whole);
 
+  /// Adds a symmetric 3 by 3 block to A's diagonal block of each of the given particles (each
+  /// free on every axis): the barrier contacts' h^2 kappa b'' n n^T (contact_barrier.hpp).
+  /// Kept until the next call, so that the conjugate gradients' products add them too
+  /// (particle_blocks()). Call after an assembly; an empty list clears them.
+  /// @param whole  also the assembled matrix (after assemble()), not only the diagonal blocks
+  void add_particle_blocks(const std::vector<int>& particles, const std::vector<Matrix3>& blocks,
+                           bool whole);
+
+  /// The particles and blocks of the last add_particle_blocks().
+  const std::vector<int>& block_particles() const { return m_extra_particles; }
+  const std::vector<Matrix3>& particle_blocks() const { return m_extra_blocks; }
+
+  /// out += the particle blocks times u (3 by #P each).
+  void add_particle_block_product(const Matrix3X& u, Matrix3X& out) const;
+
   /// 3 #P by 3 #P, symmetric, both triangles stored; filled by assemble().
   const Eigen::SparseMatrix<double>& matrix() const { return m_a; }
 
@@ -80,10 +95,12 @@ class ImplicitMatrix {
   std::vector<Matrix3> m_filter;    // apply_contacts(whole): per particle I - n n^T, or I
   std::vector<char> m_touching;     // apply_contacts(whole): per particle, 1 if in contact
   std::vector<int> m_spring_slots;  // per spring 4 blocks (pp, qq, pq, qp) by 3 columns
-  std::vector<int> m_bending_slots;  // per entry of the hinge bending's Q, its block's 3 columns
-  std::vector<int> m_diag_slots;     // per particle and column, the offset of row 3 p
-  std::vector<int> m_held_zero;      // off-diagonal entries in a held row or column
-  std::vector<int> m_held_one;       // diagonal entries of held axes
+  std::vector<int> m_bending_slots;     // per entry of the hinge bending's Q, its block's 3 columns
+  std::vector<int> m_diag_slots;        // per particle and column, the offset of row 3 p
+  std::vector<int> m_held_zero;         // off-diagonal entries in a held row or column
+  std::vector<int> m_held_one;          // diagonal entries of held axes
+  std::vector<int> m_extra_particles;   // add_particle_blocks: the particles
+  std::vector<Matrix3> m_extra_blocks;  // and their blocks
 };
 
 }  // namespace cloth

@@ -52,6 +52,7 @@ CgResult NewtonLinearSolver::solve_cg(const Model& m, const ImplicitMatrix& a,
     for (int r = 0; r < 3; ++r)
       out.row(r) = u.row(r).cwiseProduct(m.mass.transpose()) + (h * m.air_drag) * u.row(r);
     add_newton_product(m.springs, lin_k, lin_d, u, -h * h, -h, out, m_buf);
+    a.add_particle_block_product(u, out);
   };
   // S: the held-axis mask, then I - n n^T at each contact
   auto project = [&](Matrix3X& u) {

@@ -21,6 +21,11 @@ constexpr std::array<std::pair<LinearSolver, const char*>, 5> kSolverNames = {
 constexpr std::array<std::pair<CgForcing, const char*>, 2> kForcingNames = {
     {{CgForcing::fixed, "fixed"}, {CgForcing::adaptive, "adaptive"}}};
 
+constexpr std::array<std::pair<ContactMode, const char*>, 3> kContactNames = {
+    {{ContactMode::after_step, "after-step"},
+     {ContactMode::in_solve, "in-solve"},
+     {ContactMode::barrier, "barrier"}}};
+
 template <class Table, class Value>
 const char* name_in(const Table& table, Value v) {
   for (const auto& [value, name] : table)
@@ -53,6 +58,10 @@ const std::vector<LinearSolver>& all_linear_solvers() {
   static const std::vector<LinearSolver> all = values_in(kSolverNames);
   return all;
 }
+const std::vector<ContactMode>& all_contact_modes() {
+  static const std::vector<ContactMode> all = values_in(kContactNames);
+  return all;
+}
 const std::vector<CgForcing>& all_cg_forcings() {
   static const std::vector<CgForcing> all = values_in(kForcingNames);
   return all;
@@ -77,6 +86,12 @@ const char* cg_forcing_name(CgForcing f) {
 std::optional<CgForcing> parse_cg_forcing(std::string_view name) {
   return parse_in(kForcingNames, name);
 }
+const char* contact_mode_name(ContactMode c) {
+  return name_in(kContactNames, c);
+}
+std::optional<ContactMode> parse_contact_mode(std::string_view name) {
+  return parse_in(kContactNames, name);
+}
 
 double next_forcing(double previous_eta, double residual_ratio, double floor) {
   constexpr double kGamma = 0.9;
@@ -98,7 +113,7 @@ SolverOptions line_search_options(LinearSolver solver) {
   o.newton_iterations = kLineSearchNewtonIterations;
   o.cg_tolerance = kLineSearchCgTolerance;
   o.cg_forcing = CgForcing::adaptive;
-  o.contacts_in_solve = true;
+  o.contacts = ContactMode::in_solve;
   o.linear_solver = solver;
   return o;
 }

@@ -32,6 +32,13 @@ enum class CgForcing {
   adaptive  ///< line-search: Eisenstat and Walker's forcing terms, never tighter than cg_tolerance
 };
 
+/// Where implicit Euler resolves contact with the rigid colliders.
+enum class ContactMode {
+  after_step,  ///< a projection after the step (every integrator's contact pass)
+  in_solve,    ///< line-search: normal velocities held in the solve (contact_constraints.hpp)
+  barrier      ///< line-search: a barrier potential in the step's objective (contact_barrier.hpp)
+};
+
 /// "linearized", "line-search".
 const char* newton_method_name(NewtonMethod m);
 /// The method with that name, if any.
@@ -46,11 +53,17 @@ const char* cg_forcing_name(CgForcing f);
 /// The forcing with that name, if any.
 std::optional<CgForcing> parse_cg_forcing(std::string_view name);
 
+/// "after-step", "in-solve", "barrier".
+const char* contact_mode_name(ContactMode c);
+/// The contact mode with that name, if any.
+std::optional<ContactMode> parse_contact_mode(std::string_view name);
+
 /// Every Newton method, every linear solver, every forcing: in the order above (the order the
 /// scenario format, the schema and --help list their names).
 const std::vector<NewtonMethod>& all_newton_methods();
 const std::vector<LinearSolver>& all_linear_solvers();
 const std::vector<CgForcing>& all_cg_forcings();
+const std::vector<ContactMode>& all_contact_modes();
 
 /// Options of the custom engine.
 struct SolverOptions {
@@ -62,8 +75,9 @@ struct SolverOptions {
   double cg_tolerance = 1e-8;               // implicit-euler: relative residual |S r| / |S b|
   int cg_max_iterations = 2000;             // implicit-euler
   CgForcing cg_forcing = CgForcing::fixed;  // implicit-euler, line-search
-  bool contacts_in_solve = false;           // implicit-euler, line-search: contact_constraints.hpp
-  bool clamp_compressed = true;             // implicit-euler: drop negative transverse stiffness
+  ContactMode contacts =
+      ContactMode::after_step;   // implicit-euler (in-solve, barrier: line-search)
+  bool clamp_compressed = true;  // implicit-euler: drop negative transverse stiffness
   // implicit-euler, line-search, CG solvers: Newton iterations per step on the clamped matrix
   // before the exact one (implicit_euler.hpp)
   int clamped_iterations = 2;

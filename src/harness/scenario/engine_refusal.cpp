@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "cloth/model/integrator.hpp"
+#include "format/number_format.hpp"
 #include "harness/io/user_error.hpp"
 #include "reference/bullet/bullet_deformable.hpp"
 #include "reference/bullet/bullet_softbody.hpp"
@@ -40,6 +41,34 @@ SelfCollision self_collision_of(const EngineSpec& spec, const cloth::ClothParams
   return has ? SelfCollision::on : SelfCollision::not_available;
 }
 
+namespace {
+
+/// contacts = "barrier" is inelastic: a collider that bounces is refused.
+std::optional<reference::Refusal> barrier_refusal(const cloth::Scene& scene) {
+  std::optional<reference::Refusal> refusal;
+  auto check = [&](const auto& colliders, const char* table) {
+    for (size_t k = 0; k < colliders.size() && !refusal; ++k) {
+      const cloth::Collider& c = colliders[k];
+      if (c.restitution == 0.0) continue;
+      const std::string key = std::string(table) + "." + std::to_string(k);
+      refusal = reference::Refusal{
+          std::string("contacts = \"barrier\" models inelastic contact, but ") + key +
+              " has restitution " + cloth::shortest_decimal(c.restitution) +
+              ": set it to 0, or use contacts = \"after-step\"",
+          {key + ".restitution"},
+          {"contacts"}};
+    }
+  };
+  check(scene.spheres, "sphere");
+  check(scene.shapes.planes, "plane");
+  check(scene.shapes.boxes, "box");
+  check(scene.shapes.capsules, "capsule");
+  check(scene.shapes.cylinders, "cylinder");
+  return refusal;
+}
+
+}  // namespace
+
 std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
                                                  const cloth::Scene& scene) {
   // the Bullet engines bend with springs only; which spring stiffness matches a rigidity is
@@ -73,6 +102,7 @@ std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
                                       "bend_model = \"springs\"",
                                   {"cloth.bend_model"},
                                   {"integrator"}};
+      if (spec.solver.contacts == cloth::ContactMode::barrier) return barrier_refusal(scene);
       return std::nullopt;
     }
     case EngineKind::bullet_deformable: {

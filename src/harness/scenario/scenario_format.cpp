@@ -82,7 +82,7 @@ const Keys kMujocoIntegrators =
 const Keys kNewtonMethods = names_of(cloth::all_newton_methods(), cloth::newton_method_name);
 const Keys kLinearSolvers = names_of(cloth::all_linear_solvers(), cloth::linear_solver_name);
 const Keys kCgForcings = names_of(cloth::all_cg_forcings(), cloth::cg_forcing_name);
-const Keys kContactModes = names_of(std::vector<bool>{true, false}, contact_mode_name);
+const Keys kContactModes = names_of(cloth::all_contact_modes(), cloth::contact_mode_name);
 
 const char* plane_name(cloth::Plane p) {
   return p == cloth::Plane::xy ? "xy" : "xz";
@@ -112,10 +112,6 @@ Keys shape_keys(cloth::MeshShape shape) {
       return {"radius", "length"};
   }
   return {};
-}
-
-const char* contact_mode_name(bool in_solve) {
-  return in_solve ? "in-solve" : "after-step";
 }
 
 Keys engine_kind_names() {

@@ -63,8 +63,6 @@ std::optional<cloth::Plane> parse_plane(std::string_view name);
 std::optional<cloth::MeshShape> parse_shape(std::string_view name);
 /// The size keys [cloth.generate] needs for a shape (radius, inner_radius, size, length).
 Keys shape_keys(cloth::MeshShape shape);
-/// The contacts key's spelling of SolverOptions::contacts_in_solve: "in-solve" or "after-step".
-const char* contact_mode_name(bool in_solve);
 
 /// The names of the engine kinds, in engine_kind_table() order.
 Keys engine_kind_names();

@@ -218,10 +218,18 @@ void read_line_search_keys(const Reader& r, const At& at, cloth::SolverOptions& 
       r, at, o, "cg_forcing", kCgForcings, cloth::cg_forcing_name(cloth::CgForcing::adaptive),
       cloth::cg_forcing_name(cloth::CgForcing::fixed),
       "the linearized step has no Newton residual to adapt to"));
-  o.contacts_in_solve =
-      read_line_search_choice(
-          r, at, o, "contacts", kContactModes, contact_mode_name(true), contact_mode_name(false),
-          "the linearized step resolves contacts after the step") == contact_mode_name(true);
+  // in-solve by default with line-search; in-solve and barrier need it
+  const bool line_search = o.newton == cloth::NewtonMethod::line_search;
+  const cloth::ContactMode fallback =
+      line_search ? cloth::ContactMode::in_solve : cloth::ContactMode::after_step;
+  const std::string value =
+      r.choice(at, "contacts", cloth::contact_mode_name(fallback), kContactModes);
+  o.contacts = *cloth::parse_contact_mode(value);
+  if (o.contacts != cloth::ContactMode::after_step && !line_search)
+    r.fail(at.table.get("contacts"), at.key("contacts"),
+           "\"" + value +
+               "\" needs newton = \"line-search\" (the linearized step resolves contacts after "
+               "the step)");
 }
 
 /// The mujoco engine's options; unset margin and friction stay the scene's.

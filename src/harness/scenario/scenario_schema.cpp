@@ -382,11 +382,12 @@ void custom_engine_keys(std::vector<ScenarioKey>& out) {
            "implicit-euler: fixed tolerance, or Eisenstat and Walker's adaptive forcing "
            "(line-search only)");
   r.choice("contacts",
-           both(quoted(contact_mode_name(o.contacts_in_solve)),
-                quoted(contact_mode_name(ls.contacts_in_solve))),
+           both(quoted(cloth::contact_mode_name(o.contacts)),
+                quoted(cloth::contact_mode_name(ls.contacts))),
            kContactModes,
-           "implicit-euler: contacts resolved after the step, or inside the Newton solve "
-           "(line-search only)");
+           "implicit-euler: contacts resolved after the step, inside the Newton solve as held "
+           "normal velocities, or as a barrier potential in the step's objective (both "
+           "line-search only)");
   r.other("clamp_compressed", "boolean", "", boolean(o.clamp_compressed), "true or false",
           "implicit-euler: drop the negative transverse stiffness of compressed springs");
   r.integer("clamped_iterations", o.clamped_iterations, 0, kNoMax,

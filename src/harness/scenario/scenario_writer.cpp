@@ -30,7 +30,7 @@ void write_custom_options(std::ostream& o, const cloth::SolverOptions& so) {
     << "cg_tolerance = " << toml_double(so.cg_tolerance) << "\n"
     << "cg_max_iterations = " << so.cg_max_iterations << "\n"
     << "cg_forcing = " << toml_string(cloth::cg_forcing_name(so.cg_forcing)) << "\n"
-    << "contacts = " << toml_string(contact_mode_name(so.contacts_in_solve)) << "\n"
+    << "contacts = " << toml_string(cloth::contact_mode_name(so.contacts)) << "\n"
     << "clamp_compressed = " << (so.clamp_compressed ? "true" : "false") << "\n"
     << "substeps = " << so.substeps << "  # xpbd\n"
     << "iterations = " << so.iterations << "  # xpbd (per substep), projective\n";
