@@ -88,6 +88,8 @@ class ImplicitEulerNewton {
   /// Lifts particles that start on or inside a collider out of it, booking the energy the lift
   /// gives; then makes the first guess feasible (contacts = "barrier").
   void start_barrier(const Model& m, double t_end, double h);
+  /// The first guess of a barrier step: the inertial one or standing still, the lower Phi.
+  void choose_barrier_guess(const Model& m, double h);
   /// A's barrier blocks h^2 kappa b'' n n^T at the iterate's contacts.
   void add_barrier_blocks(double h);
   double objective(const Model& m, double h, const Matrix3X& v);
