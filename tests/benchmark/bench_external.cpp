@@ -6,8 +6,8 @@
 /// comes and goes falls on both alike, and reports their ratio (protocol / in-process time,
 /// the overhead is ratio - 1) and the time added per frame, and splits a protocol frame into
 /// the harness's CPU, the engine's CPU and the time neither ran (idle_us: the hand-overs
-/// between the processes, including their waits for a CPU on a loaded machine; the engine's own
-/// wait for one is engine_queued_us). BM_ExternalProtocol and
+/// between the processes, including their waits for a CPU on a loaded machine).
+/// BM_ExternalProtocol and
 /// BM_ExternalInProcess time each alone (steps per second); the protocol's also counts the
 /// sleeps (voluntary context switches) of the harness and of the engine per frame (at best one
 /// each; an engine that is preempted before it waits for the next request sleeps less).
@@ -22,7 +22,6 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
-#include <utility>
 
 #include "cloth/model/model.hpp"
 #include "examples/external/cpp/mass_spring_engine.hpp"
@@ -95,13 +94,13 @@ void BM_ExternalInProcess(benchmark::State& state) {
 }
 BENCHMARK(BM_ExternalInProcess)->Unit(benchmark::kMicrosecond)->UseRealTime();
 
-/// On-CPU and run-queue (runnable, waiting for a CPU) time of the process pid so far (s), from
-/// /proc/PID/schedstat; zeros where the kernel does not keep it.
-std::pair<double, double> scheduled(int pid) {
+/// On-CPU time of the process pid so far (s), from /proc/PID/schedstat; 0 where the kernel
+/// does not keep it.
+double on_cpu(int pid) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/schedstat");
-  double on_cpu = 0.0, queued = 0.0;
-  in >> on_cpu >> queued;
-  return {1e-9 * on_cpu, 1e-9 * queued};
+  double ns = 0.0;
+  in >> ns;
+  return 1e-9 * ns;
 }
 
 /// CPU time of the calling thread (s).
@@ -117,7 +116,7 @@ void BM_ExternalOverhead(benchmark::State& state) {
   example::MassSpringEngine local = in_process_engine();
   // s, summed over the frames: wall clock and the harness thread's CPU of each side
   double protocol = 0.0, in_process = 0.0, protocol_cpu = 0.0, in_process_cpu = 0.0;
-  const auto engine0 = scheduled(external.pid());
+  const double engine0 = on_cpu(external.pid());
   for (auto _ : state) {
     // one frame in-process, then the same frame through the protocol
     const auto t0 = Clock::now();
@@ -135,8 +134,7 @@ void BM_ExternalOverhead(benchmark::State& state) {
     protocol_cpu += c2 - c1;
   }
   // the engine runs only while a protocol frame is under way
-  const auto engine1 = scheduled(external.pid());
-  const double engine_cpu = engine1.first - engine0.first;
+  const double engine_cpu = on_cpu(external.pid()) - engine0;
   const double frames = double(std::max<benchmark::IterationCount>(state.iterations(), 1));
   const double us = 1e6 / frames;
   state.counters["ratio"] = in_process > 0.0 ? protocol / in_process : 0.0;
@@ -146,7 +144,6 @@ void BM_ExternalOverhead(benchmark::State& state) {
   state.counters["in_process_cpu_us"] = us * in_process_cpu;
   state.counters["harness_cpu_us"] = us * protocol_cpu;
   state.counters["engine_cpu_us"] = us * engine_cpu;
-  state.counters["engine_queued_us"] = us * (engine1.second - engine0.second);
   state.counters["idle_us"] = us * (protocol - protocol_cpu - engine_cpu);
 }
 
