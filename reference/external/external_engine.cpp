@@ -1,5 +1,6 @@
 #include "reference/external/external_engine.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
@@ -57,19 +58,6 @@ void add_colliders(Bytes& b, const cloth::Model& m) {
     add_collider(b, 4, {s.center[0], s.center[1], s.center[2], s.radius, s.height}, s);
 }
 
-/// Reads 8-byte fields from a payload, in order.
-struct Reader {
-  const std::vector<char>& in;
-  size_t at = 0;
-  template <class T>
-  T next() {
-    T v;
-    std::memcpy(&v, in.data() + at, sizeof v);
-    at += sizeof v;
-    return v;
-  }
-};
-
 }  // namespace
 
 std::vector<char> external_model_payload(const cloth::Model& m, double dt) {
@@ -118,7 +106,11 @@ ExternalEngine::ExternalEngine(const ExternalOptions& options, const cloth::Scen
   m_particles = model.particle_count();
   m_x = model.x0;
   m_v = cloth::Matrix3X::Zero(3, m_particles);
-  m_process = std::make_unique<ExternalProcess>(options.command);
+  m_next_x.resize(3, m_particles);
+  m_next_v.resize(3, m_particles);
+  // room in the socket for a whole state (header, head, x and v), the largest message
+  m_process =
+      std::make_unique<ExternalProcess>(options.command, 16 + 32 + 48 * std::size_t(m_particles));
   // the handshake: both sides name the version they speak
   std::vector<char> hello(8, 0);
   std::memcpy(hello.data(), &kExternalProtocolVersion, 4);
@@ -133,22 +125,34 @@ ExternalEngine::ExternalEngine(const ExternalOptions& options, const cloth::Scen
   receive(ExternalMessage::model);
 }
 
-void ExternalEngine::send(ExternalMessage type, const std::vector<char>& payload) {
+void ExternalEngine::send(ExternalMessage type, const iovec* parts, int count) {
   m_deadline =
       ExternalProcess::Clock::now() + std::chrono::duration_cast<ExternalProcess::Clock::duration>(
                                           std::chrono::duration<double>(m_options.step_timeout));
+  // the header, then the payload's parts: one write, so the engine wakes to a whole request
   char header[16];
   const std::uint32_t t = static_cast<std::uint32_t>(type);
-  const std::uint64_t n = payload.size();
+  std::uint64_t n = 0;
+  iovec all[4] = {{header, sizeof header}, {}, {}, {}};
+  for (int k = 0; k < count && k < 3; ++k) {
+    all[k + 1] = parts[k];
+    n += parts[k].iov_len;
+  }
   std::memcpy(header, kExternalMagic, 4);
   std::memcpy(header + 4, &t, 4);
   std::memcpy(header + 8, &n, 8);
-  m_process->write(header, sizeof header, m_deadline);
-  m_process->write(payload.data(), payload.size(), m_deadline);
+  m_process->write(all, 1 + std::min(count, 3), m_deadline);
 }
 
-std::vector<char> ExternalEngine::receive(ExternalMessage expected) {
+void ExternalEngine::send(ExternalMessage type, const std::vector<char>& payload) {
+  const iovec part{const_cast<char*>(payload.data()), payload.size()};
+  send(type, &part, 1);
+}
+
+std::pair<std::uint32_t, std::uint64_t> ExternalEngine::receive_header() {
+  // sleep until the answer begins, then take its header
   char header[16];
+  m_process->wait_readable(m_deadline);
   m_process->read(header, sizeof header, m_deadline);
   std::uint32_t t = 0;
   std::uint64_t n = 0;
@@ -159,61 +163,80 @@ std::vector<char> ExternalEngine::receive(ExternalMessage expected) {
   // a state is the largest answer; an error text is kept short
   const std::uint64_t limit = 64 + 48 * std::uint64_t(m_particles) + (1 << 16);
   if (n > limit) m_process->fail("announced an answer of " + std::to_string(n) + " bytes");
+  return {t, n};
+}
+
+std::vector<char> ExternalEngine::receive(ExternalMessage expected) {
+  const auto [t, n] = receive_header();
+  if (t != static_cast<std::uint32_t>(expected)) reject(t, n, expected);
   std::vector<char> payload(n);
   m_process->read(payload.data(), payload.size(), m_deadline);
-  if (t == static_cast<std::uint32_t>(ExternalMessage::error))
-    m_process->fail("reported an error: " + std::string(payload.begin(), payload.end()));
-  if (t != static_cast<std::uint32_t>(expected))
-    m_process->fail("answered a frame of type " + std::to_string(t) + " where type " +
-                    std::to_string(static_cast<std::uint32_t>(expected)) + " was due");
   return payload;
 }
 
+void ExternalEngine::reject(std::uint32_t type, std::uint64_t n, ExternalMessage expected) {
+  std::vector<char> payload(n);
+  m_process->read(payload.data(), payload.size(), m_deadline);
+  if (type == static_cast<std::uint32_t>(ExternalMessage::error))
+    m_process->fail("reported an error: " + std::string(payload.begin(), payload.end()));
+  m_process->fail("answered a frame of type " + std::to_string(type) + " where type " +
+                  std::to_string(static_cast<std::uint32_t>(expected)) + " was due");
+}
+
 void ExternalEngine::receive_state() {
-  const std::vector<char> p = receive(ExternalMessage::state);
-  if (p.size() < 32) m_process->fail("answered a state shorter than its 32-byte head");
-  Reader r{p};
-  const double t = r.next<double>();
-  const double dissipated = r.next<double>();
-  const std::int64_t evals = r.next<std::int64_t>();
-  const std::int64_t count = r.next<std::int64_t>();
-  if (count != m_particles || p.size() != 32 + 48 * size_t(m_particles))
+  const auto [type, n] = receive_header();
+  if (type != static_cast<std::uint32_t>(ExternalMessage::state))
+    reject(type, n, ExternalMessage::state);
+  const std::size_t bytes = sizeof(double) * 3 * std::size_t(m_particles);
+  const std::size_t expected = 32 + 2 * bytes;
+  if (n < 32) m_process->fail("answered a state shorter than its 32-byte head");
+  // the head, then x and v straight into the spares when the size is right
+  double head[4];
+  if (n == expected) {
+    const iovec parts[3] = {{head, 32}, {m_next_x.data(), bytes}, {m_next_v.data(), bytes}};
+    m_process->read(parts, 3, m_deadline);
+  } else {
+    std::vector<char> p(n);
+    m_process->read(p.data(), p.size(), m_deadline);
+    std::memcpy(head, p.data(), 32);
+  }
+  std::int64_t evals = 0, count = 0;
+  std::memcpy(&evals, &head[2], 8);
+  std::memcpy(&count, &head[3], 8);
+  if (count != m_particles || n != expected)
     m_process->fail("answered a state of " + std::to_string(count) + " particles in " +
-                    std::to_string(p.size()) + " bytes, where the model has " +
-                    std::to_string(m_particles) + " particles (" +
-                    std::to_string(32 + 48 * size_t(m_particles)) + " bytes)");
-  if (!std::isfinite(t)) m_process->fail("answered a state at a time that is not finite");
-  const size_t bytes = sizeof(double) * 3 * size_t(m_particles);
-  std::memcpy(m_x.data(), p.data() + 32, bytes);
-  std::memcpy(m_v.data(), p.data() + 32 + bytes, bytes);
-  m_t = t;
-  m_dissipated = std::isnan(dissipated) ? 0.0 : dissipated;
+                    std::to_string(n) + " bytes, where the model has " +
+                    std::to_string(m_particles) + " particles (" + std::to_string(expected) +
+                    " bytes)");
+  if (!std::isfinite(head[0])) m_process->fail("answered a state at a time that is not finite");
+  // the checked answer takes the place of the state (a swap of buffers, no copy)
+  m_x.swap(m_next_x);
+  m_v.swap(m_next_v);
+  m_t = head[0];
+  m_dissipated = std::isnan(head[1]) ? 0.0 : head[1];
   if (evals >= 0) m_counters.force_evals = evals;
 }
 
 void ExternalEngine::advance(double dt, int steps) {
   if (steps <= 0) return;
-  std::vector<char> payload;
-  Bytes b{payload};
-  b.i64(steps);
-  b.f64(dt);
-  send(ExternalMessage::step, payload);
+  const std::int64_t s = steps;
+  const iovec parts[2] = {{const_cast<std::int64_t*>(&s), 8}, {&dt, 8}};
+  send(ExternalMessage::step, parts, 2);
   receive_state();
   m_counters.steps += steps;
 }
 
 void ExternalEngine::set_state(const cloth::Matrix3X& x, const cloth::Matrix3X& v, double t) {
-  std::vector<char> payload;
-  Bytes b{payload};
-  b.f64(t);
-  b.rows(x);
-  b.rows(v);
-  send(ExternalMessage::set_state, payload);
+  // x and v go from the caller's matrices to the socket, no copy between
+  const iovec parts[3] = {{&t, 8},
+                          {const_cast<double*>(x.data()), sizeof(double) * std::size_t(x.size())},
+                          {const_cast<double*>(v.data()), sizeof(double) * std::size_t(v.size())}};
+  send(ExternalMessage::set_state, parts, 3);
   receive_state();
 }
 
 void ExternalEngine::read_state() {
-  send(ExternalMessage::get_state, {});
+  send(ExternalMessage::get_state);
   receive_state();
 }
 

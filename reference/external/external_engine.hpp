@@ -4,7 +4,9 @@
 /// protocol version 1 with on its stdin and stdout (docs/external-engines.md): a handshake, the
 /// model once, then step, set-state and read-state requests, each answered by the state.
 
+#include <cstdint>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "cloth/model/model.hpp"
@@ -66,18 +68,29 @@ class ExternalEngine final : public cloth::Simulator {
   int pid() const { return m_process->pid(); }
 
  private:
+  /// Sends one frame of type whose payload is the count parts in order (at most 3), header and
+  /// parts in one write.
+  void send(ExternalMessage type, const iovec* parts = nullptr, int count = 0);
   /// Sends one frame of type and payload.
   void send(ExternalMessage type, const std::vector<char>& payload);
+  /// Receives a frame header; checks its magic and announced size, returns its type and size.
+  std::pair<std::uint32_t, std::uint64_t> receive_header();
   /// Receives one frame, checks its type is expected (an error frame fails the run with its
   /// text) and returns its payload.
   std::vector<char> receive(ExternalMessage expected);
-  /// Receives a state answer into m_x, m_v, m_t and the books.
+  /// Receives the rest of a frame whose header said type and n bytes, for a frame that is not
+  /// the one expected: an error frame fails the run with its text, any other with its type.
+  [[noreturn]] void reject(std::uint32_t type, std::uint64_t n, ExternalMessage expected);
+  /// Receives a state answer into m_x, m_v, m_t and the books: the positions and velocities
+  /// straight from the socket into the spare matrices, which take their place once the answer
+  /// is checked (no allocation, no copy in the harness).
   void receive_state();
 
   ExternalOptions m_options;
   std::unique_ptr<ExternalProcess> m_process;
   int m_particles = 0;
   cloth::Matrix3X m_x, m_v;
+  cloth::Matrix3X m_next_x, m_next_v;  // 3 by #P spares the next state answer is read into
   double m_t = 0;
   double m_dissipated = 0;
   cloth::Counters m_counters;

@@ -3,15 +3,20 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <spawn.h>
 #include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
+#include <stdexcept>
 #include <thread>
 
 #include "cloth/model/simulator.hpp"
+
+extern char** environ;
 
 namespace clothbench::reference {
 namespace {
@@ -29,60 +34,111 @@ int ms_left(ExternalProcess::Clock::time_point deadline) {
   return left.count() <= 0 ? 0 : static_cast<int>(std::min<long long>(left.count() + 1, 60000));
 }
 
-/// The child's side after fork: its stdin and stdout the socket, stderr the pipe, then exec;
-/// only async-signal-safe calls, and errno to the status pipe when exec fails.
-[[noreturn]] void exec_child(char* const* argv, int sock, int err, int status) {
-  if (::dup2(sock, 0) < 0 || ::dup2(sock, 1) < 0 || ::dup2(err, 2) < 0) _exit(127);
-  ::signal(SIGPIPE, SIG_DFL);
-  ::execvp(argv[0], argv);
-  const int e = errno;
-  [[maybe_unused]] const ssize_t n = ::write(status, &e, sizeof e);
-  _exit(127);
+/// Gives the socket sock room for a message of bytes (plus a margin) in flight, so that a whole
+/// state answer is written in one go; never shrinks it, and the kernel caps it at its limit
+/// (net.core.wmem_max).
+void make_room(int sock, std::size_t bytes) {
+  int size = 0;
+  socklen_t len = sizeof size;
+  if (::getsockopt(sock, SOL_SOCKET, SO_SNDBUF, &size, &len) != 0) return;
+  // the kernel reports double what was asked (its bookkeeping); a stream message costs some more
+  const std::size_t want = bytes + bytes / 2 + (64u << 10);
+  if (want <= std::size_t(size) / 2) return;
+  const int ask = static_cast<int>(std::min<std::size_t>(want, 1u << 30));
+  ::setsockopt(sock, SOL_SOCKET, SO_SNDBUF, &ask, sizeof ask);
 }
+
+/// The parts of a message still to transfer: a copy of the caller's (at most kMax), with the
+/// transferred bytes dropped from the front.
+class Parts {
+ public:
+  static constexpr int kMax = 8;
+  Parts(const iovec* parts, int count) {
+    // empty parts are dropped: a part of no bytes left would look like the end of the message
+    for (int k = 0; k < count; ++k)
+      if (parts[k].iov_len > 0) {
+        if (m_count == kMax) throw std::logic_error("external engine: a message of too many parts");
+        m_parts[m_count++] = parts[k];
+      }
+  }
+  bool empty() const { return m_first == m_count; }
+  iovec* data() { return m_parts + m_first; }
+  int size() const { return m_count - m_first; }
+  /// Drops n transferred bytes from the front.
+  void consume(std::size_t n) {
+    while (n > 0 && !empty()) {
+      iovec& p = m_parts[m_first];
+      const std::size_t k = std::min(n, p.iov_len);
+      p.iov_base = static_cast<char*>(p.iov_base) + k;
+      p.iov_len -= k;
+      n -= k;
+      if (p.iov_len == 0) ++m_first;
+    }
+  }
+
+ private:
+  iovec m_parts[kMax];
+  int m_first = 0, m_count = 0;
+};
 
 }  // namespace
 
-ExternalProcess::ExternalProcess(const std::vector<std::string>& command) {
+ExternalProcess::ExternalProcess(const std::vector<std::string>& command,
+                                 std::size_t message_bytes) {
   if (command.empty()) throw cloth::EngineFailure("external engine: an empty command");
   m_name = command.front();
-  // argv before fork: the child may call nothing that allocates
   std::vector<std::string> args = command;
   std::vector<char*> argv;
   for (std::string& a : args) argv.push_back(a.data());
   argv.push_back(nullptr);
   // close-on-exec everywhere: a sibling engine started by another thread must not inherit ours
-  int sv[2], err[2], status[2];
+  int sv[2], err[2];
   if (::socketpair(AF_UNIX, SOCK_STREAM | SOCK_CLOEXEC, 0, sv) != 0)
     throw cloth::EngineFailure(std::string("external engine: socketpair: ") + std::strerror(errno));
-  if (::pipe2(err, O_CLOEXEC) != 0 || ::pipe2(status, O_CLOEXEC) != 0)
+  if (::pipe2(err, O_CLOEXEC) != 0) {
+    ::close(sv[0]);
+    ::close(sv[1]);
     throw cloth::EngineFailure(std::string("external engine: pipe: ") + std::strerror(errno));
-  const pid_t pid = ::fork();
-  if (pid == 0) exec_child(argv.data(), sv[1], err[1], status[1]);
-  ::close(sv[1]);
-  ::close(err[1]);
-  ::close(status[1]);
+  }
   m_socket = sv[0];
   m_stderr_fd = err[0];
-  if (pid < 0) {
-    close_fd(m_socket);
-    close_fd(m_stderr_fd);
-    ::close(status[0]);
-    throw cloth::EngineFailure(std::string("external engine: fork: ") + std::strerror(errno));
-  }
-  m_pid = pid;
-  // exec succeeded when the status pipe closes without a word
-  int e = 0;
-  ssize_t n;
-  do n = ::read(status[0], &e, sizeof e);
-  while (n < 0 && errno == EINTR);
-  ::close(status[0]);
-  if (n == sizeof e) {
-    reap(std::chrono::milliseconds(0));
+  make_room(sv[0], message_bytes);
+  make_room(sv[1], message_bytes);
+  const int e = spawn(argv.data(), sv[1], err[1]);
+  ::close(sv[1]);
+  ::close(err[1]);
+  if (e != 0) {
     close_fd(m_socket);
     close_fd(m_stderr_fd);
     throw cloth::EngineFailure("external engine: cannot run " + m_name + ": " + std::strerror(e));
   }
   ::fcntl(m_stderr_fd, F_SETFL, O_NONBLOCK);
+}
+
+int ExternalProcess::spawn(char* const* argv, int sock, int err) {
+  // the child's stdin and stdout the socket, its stderr the pipe (dup2 clears close-on-exec),
+  // SIGPIPE back to its default and no signal blocked, whatever this thread has
+  posix_spawn_file_actions_t actions;
+  posix_spawnattr_t attributes;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_adddup2(&actions, sock, 0);
+  posix_spawn_file_actions_adddup2(&actions, sock, 1);
+  posix_spawn_file_actions_adddup2(&actions, err, 2);
+  posix_spawnattr_init(&attributes);
+  sigset_t none, pipe;
+  sigemptyset(&none);
+  sigemptyset(&pipe);
+  sigaddset(&pipe, SIGPIPE);
+  posix_spawnattr_setsigmask(&attributes, &none);
+  posix_spawnattr_setsigdefault(&attributes, &pipe);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+  // a program that cannot be run is an error here (glibc reports a failed exec), not an exit
+  pid_t pid = 0;
+  const int e = ::posix_spawnp(&pid, argv[0], &actions, &attributes, argv, environ);
+  posix_spawn_file_actions_destroy(&actions);
+  posix_spawnattr_destroy(&attributes);
+  if (e == 0) m_pid = pid;
+  return e;
 }
 
 ExternalProcess::~ExternalProcess() {
@@ -116,27 +172,43 @@ void ExternalProcess::wait_for(short events, Clock::time_point deadline) {
 }
 
 void ExternalProcess::write(const void* data, std::size_t n, Clock::time_point deadline) {
-  const char* p = static_cast<const char*>(data);
-  while (n > 0) {
-    wait_for(POLLOUT, deadline);
-    const ssize_t w = ::send(m_socket, p, n, MSG_NOSIGNAL | MSG_DONTWAIT);
+  const iovec part{const_cast<void*>(data), n};
+  write(&part, 1, deadline);
+}
+
+void ExternalProcess::write(const iovec* parts, int count, Clock::time_point deadline) {
+  Parts left(parts, count);
+  while (!left.empty()) {
+    // try first: a request fits the socket's buffer, so poll only when it is full
+    msghdr m{};
+    m.msg_iov = left.data();
+    m.msg_iovlen = static_cast<std::size_t>(left.size());
+    const ssize_t w = ::sendmsg(m_socket, &m, MSG_NOSIGNAL | MSG_DONTWAIT);
+    if (w < 0 && errno == EAGAIN) wait_for(POLLOUT, deadline);
     if (w < 0 && (errno == EINTR || errno == EAGAIN)) continue;
     if (w < 0) fail("stopped reading its input (" + std::string(std::strerror(errno)) + ")");
-    p += w;
-    n -= static_cast<std::size_t>(w);
+    left.consume(static_cast<std::size_t>(w));
   }
 }
 
 void ExternalProcess::read(void* data, std::size_t n, Clock::time_point deadline) {
-  char* p = static_cast<char*>(data);
-  while (n > 0) {
-    wait_for(POLLIN, deadline);
-    const ssize_t r = ::recv(m_socket, p, n, MSG_DONTWAIT);
+  const iovec part{data, n};
+  read(&part, 1, deadline);
+}
+
+void ExternalProcess::read(const iovec* parts, int count, Clock::time_point deadline) {
+  Parts left(parts, count);
+  while (!left.empty()) {
+    // try first: the rest of an answer has usually arrived with its header
+    msghdr m{};
+    m.msg_iov = left.data();
+    m.msg_iovlen = static_cast<std::size_t>(left.size());
+    const ssize_t r = ::recvmsg(m_socket, &m, MSG_DONTWAIT);
+    if (r < 0 && errno == EAGAIN) wait_for(POLLIN, deadline);
     if (r < 0 && (errno == EINTR || errno == EAGAIN)) continue;
     if (r == 0) fail("closed its output before the end of an answer");
     if (r < 0) fail("cannot be read (" + std::string(std::strerror(errno)) + ")");
-    p += r;
-    n -= static_cast<std::size_t>(r);
+    left.consume(static_cast<std::size_t>(r));
   }
 }
 

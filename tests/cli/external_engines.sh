@@ -54,6 +54,17 @@ grep -q "^python-symplectic-euler," "$work/stab/stability.csv" ||
   fail "stability.csv has no row of the external engine: $(cat "$work/stab/stability.csv")"
 expect 0 "$clothbench" accuracy "$scenario" -e python-symplectic-euler -o "$work/acc" \
   --allow-external "${small[@]}" --set duration=0.02 --dts 2e-4,1e-4 -j 2 --quiet
+# -j 2 runs two engine processes at once, each with its own socket: the same rows as one at a
+# time
+same_rows() {  # FILE_J2 FILE_J1
+  cmp -s "$1" "$2" || fail "-j 2 and -j 1 differ: $(diff "$1" "$2" | head -5)"
+}
+expect 0 "$clothbench" stability "$scenario" -e python-symplectic-euler -o "$work/stab1" \
+  --allow-external "${small[@]}" --set duration=0.05 --dt-max 4e-4 --rel-tol 0.2 -j 1 --quiet
+same_rows "$work/stab/stability.csv" "$work/stab1/stability.csv"
+expect 0 "$clothbench" accuracy "$scenario" -e python-symplectic-euler -o "$work/acc1" \
+  --allow-external "${small[@]}" --set duration=0.02 --dts 2e-4,1e-4 -j 1 --quiet
+same_rows "$work/acc/convergence.csv" "$work/acc1/convergence.csv"
 # symplectic Euler is first order: the fitted order of the external engine says so
 order=$(awk -F, '$1 == "python-symplectic-euler" { print $3 }' "$work/acc/convergence.csv")
 awk -v o="$order" 'BEGIN { exit !(o != "" && o > 0.9 && o < 1.1) }' ||
