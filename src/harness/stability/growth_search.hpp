@@ -43,6 +43,8 @@ struct GrowthSearchOptions {
   int max_halvings = 10;                  // halvings below the start before giving up
   double max_seconds = 0;                 // s of wall clock the search may take before it
                                           // stops as a timeout (0: no limit)
+  bool decide_early = true;  // stop each estimate once its side of the verdict is decided
+                             // (false: every estimate to its residual of 1e-7)
 };
 
 /// The growth at one state and dt.
@@ -55,6 +57,7 @@ struct StateGrowth {
   double physical_rate = std::numeric_limits<double>::quiet_NaN();  // 1/s, at dt / 8 (NaN: not
                                                                     // needed)
   bool unstable = false;
+  bool physical_decided = false;   // physical_rate stopped once its side was decided
   cloth::GrowthEstimate estimate;  // of the one-step map
 };
 
