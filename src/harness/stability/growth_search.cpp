@@ -134,16 +134,22 @@ class GrowthSearch {
     return v;
   }
 
-  /// Brackets from dt_start: doubling while stable, halving while unstable.
+  /// Brackets from dt_start: a first step of first_step either way (the start, the
+  /// prediction, is mostly within a few per cent of the limit), then doubling while stable,
+  /// halving while unstable down to dt_start / 2^max_halvings.
   void bracket(double dt_start) {
-    double dt = std::min(dt_start, m_o.dt_max);
+    double dt = std::min(dt_start, m_o.dt_max), step = m_o.first_step;
     Verdict v = judge(dt);
-    for (int k = 0; v == Verdict::stable && dt < m_o.dt_max; ++k) {
-      dt = std::min(2 * dt, m_o.dt_max);
+    const bool unstable_at_start = v == Verdict::unstable;
+    for (; v == Verdict::stable && dt < m_o.dt_max; step = 2) {
+      dt = std::min(step * dt, m_o.dt_max);
       v = judge(dt);
     }
-    for (int k = 0; v == Verdict::unstable && k < m_o.max_halvings; ++k) {
-      dt /= 2;
+    // unstable past a stable start: bracketed already
+    if (!unstable_at_start) return;
+    const double lowest = std::min(dt_start, m_o.dt_max) * std::ldexp(1.0, -m_o.max_halvings);
+    for (step = m_o.first_step; v == Verdict::unstable && dt > lowest * (1 + 1e-12); step = 2) {
+      dt /= step;
       v = judge(dt);
     }
   }

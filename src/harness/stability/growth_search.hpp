@@ -12,9 +12,10 @@
 /// A state at which nothing grows faster than growth_tol (sigma(dt) <= growth_tol) is stable
 /// there without the physical rate being measured. A state whose map is not differentiable
 /// (a contact switching under the perturbation) gives no number and no verdict; when every
-/// state is so the search ends there. The limit is bracketed from a starting dt by doubling
-/// or halving, then bisected on a log scale: the criterion is not smooth at the limit (a
-/// square-root branch for symplectic Euler), so nothing faster than bisection is assumed.
+/// state is so the search ends there. The limit is bracketed from a starting dt by a first
+/// step of 5 % either way, then doubling or halving, then bisected on a log scale: the criterion is
+/// not smooth at the limit (a square-root branch for symplectic Euler), so nothing faster than
+/// bisection is assumed.
 
 #include <array>
 #include <limits>
@@ -40,6 +41,7 @@ struct GrowthSearchOptions {
   double growth_tol = kDefaultGrowthTol;  // 1/s
   double rel_tol = 0.02;                  // bisection until first_unstable / stable - 1 <= this
   double dt_max = 0.1;                    // s, no dt above this is tried
+  double first_step = 1.05;               // the bracket's first step from the start (factor)
   int max_halvings = 10;                  // halvings below the start before giving up
   double max_seconds = 0;                 // s of wall clock the search may take before it
                                           // stops as a timeout (0: no limit)
