@@ -164,6 +164,37 @@ TEST_CASE("estimates stopped once decided give the same limit in fewer steps",
   CHECK(early.cause == full.cause);
 }
 
+TEST_CASE("a first step of 5 % from the prediction brackets the same limit",
+          "[stability][growth]") {
+  // the verdicts do not depend on the path: the two brackets overlap; where the limit is
+  // within 5 % of the prediction (symplectic Euler, rk4 here) fewer steps are judged
+  const cloth::Integrator integrator =
+      GENERATE(cloth::Integrator::explicit_euler, cloth::Integrator::symplectic_euler,
+               cloth::Integrator::rk4);
+  const Scenario sc = parse_scenario(kFree, "free.toml", {});
+  const std::vector<GrowthState> states = growth_states(sc);
+  const EngineSpec engine =
+      with_integrator_and_dt(sc.engines.front(), integrator, sc.engines.front().dt);
+  const cloth::LinearSpectrum spectrum = cloth::linear_spectrum(cloth::build_model(sc.scene));
+  const double start = cloth::predicted_stable_dt(integrator, spectrum);
+  GrowthSearchOptions o;
+  const GrowthLimit doubling = search_growth_limit(sc, engine, states, start, o);
+  o.first_step = kPredictionFirstStep;
+  const GrowthLimit near = search_growth_limit(sc, engine, states, start, o);
+  INFO(cloth::integrator_name(integrator)
+       << ": predicted " << start << ", doubling " << doubling.stable_dt << " .. "
+       << doubling.first_unstable_dt << " in " << doubling.judged << " steps judged, 5 % "
+       << near.stable_dt << " .. " << near.first_unstable_dt << " in " << near.judged);
+  REQUIRE(std::isfinite(near.stable_dt));
+  REQUIRE(std::isfinite(near.first_unstable_dt));
+  CHECK(near.stable_dt < doubling.first_unstable_dt);
+  CHECK(doubling.stable_dt < near.first_unstable_dt);
+  CHECK(near.first_unstable_dt / near.stable_dt - 1 <= o.rel_tol);
+  if (std::abs(near.stable_dt / start - 1) < 0.05) {
+    CHECK(near.judged < doubling.judged);
+  }
+}
+
 TEST_CASE("a perturbation below round-off or not small is refused", "[stability][growth]") {
   test::TempDir dir("growth-refused");
   StabilityOptions o = growth_options(dir.str());
