@@ -265,3 +265,62 @@ TEST_CASE("growth at the rest state of a grid equals the linear predictor's radi
     CHECK(e.rho <= 1 + tol::kGrowthDefective);
   }
 }
+
+TEST_CASE("an estimate stopped once its side of a threshold is decided takes the true side",
+          "[growth]") {
+  // the rest grid of the test above: near and far thresholds on both sides of J's largest
+  // modulus, from the linear predictor; below every limit that is the free bending modes'
+  // defective 1, whose Ritz values settle above it (the non-normal case a bound from the
+  // residual alone, not its square root, is fooled by)
+  const Integrator i =
+      GENERATE(Integrator::explicit_euler, Integrator::symplectic_euler, Integrator::rk4);
+  const double factor = GENERATE(0.9, 1.02, 1.1);
+  const double offset = GENERATE(-0.03, -1e-3, -1e-5, 1e-5, 1e-3, 0.03);
+  Scene s = clothbench::test::small_cloth(5, 20.0, 0.5);
+  s.gravity.setZero();
+  const LinearSpectrum spectrum = linear_spectrum(build_model(s));
+  const double h = factor * predicted_stable_dt(i, spectrum);
+  double predicted = 1.0;
+  for (int n = 0; n <= 1000; ++n) {
+    const double w = spectrum.omega_max * n / 1000.0;
+    predicted = std::max(predicted, mode_radius(i, h, w, spectrum.beta, spectrum.gamma));
+  }
+  const double threshold = predicted * (1 + offset);
+  GrowthOptions o;
+  o.rel_tol = 1e-6;
+  o.max_iterations = 400;
+  const GrowthEstimate full = measure(s, options(i), h, 1, o);
+  o.decide_below = o.decide_above = threshold;
+  const GrowthEstimate early = measure(s, options(i), h, 1, o);
+  const int truth = predicted > threshold ? 1 : -1;
+  INFO(integrator_name(i) << " at " << factor << " x the limit, threshold " << threshold
+                          << ": predicted " << predicted << ", full rho " << full.rho << " in "
+                          << full.products << " products, early rho " << early.rho << " decided "
+                          << early.decided << " in " << early.products);
+  // the full estimate is on the true side where the threshold is clear of its error (the
+  // defective cluster's, tol::kGrowthDefective, below the limit)
+  if (std::abs(offset) > (factor < 1 ? tol::kGrowthDefective : tol::kGrowthVsPredictor))
+    CHECK((full.rho > threshold ? 1 : -1) == truth);
+  // a decision is never the wrong side; undecided, the estimate is the full one; a far
+  // threshold is decided unless the residual met rel_tol first
+  CHECK((early.decided == 0 || early.decided == truth));
+  CHECK(early.products <= full.products);
+  if (early.decided == 0) CHECK(early.rho == full.rho);
+  if (std::abs(offset) >= 0.03) CHECK((early.decided == truth || early.converged));
+}
+
+TEST_CASE("the side of a threshold allows the square root of the residual", "[growth]") {
+  // a Jordan block [1 1; 0 1] perturbed by r in its corner has eigenvalues 1 +- sqrt(r):
+  // a Ritz value of residual r may be sqrt(r) away from the eigenvalue
+  const double r = 1e-6;
+  Eigen::Matrix2d j;
+  j << 1.0, 1.0, r, 1.0;
+  const double top = std::abs(dominant_eigenvalue(j));
+  CHECK(top == Approx(1 + std::sqrt(r)).epsilon(1e-12));
+  // so a Ritz value 1 with residual r is undecided against a threshold within sqrt(r) of 1
+  CHECK(decided_side(cplx(1.0, 0.0), r, 1 + 0.5 * std::sqrt(r), INFINITY) == 0);
+  CHECK(decided_side(cplx(1.0, 0.0), r, 0.0, 1 - 0.5 * std::sqrt(r)) == 0);
+  CHECK(decided_side(cplx(1.0, 0.0), r, 1 + 2 * std::sqrt(r), INFINITY) == -1);
+  CHECK(decided_side(cplx(1.0, 0.0), r, 0.0, 1 - 2 * std::sqrt(r)) == 1);
+  CHECK(decided_side(cplx(0.0, 1.0), r, 0.0, 1 - 2 * std::sqrt(r)) == 1);
+}

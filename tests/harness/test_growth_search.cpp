@@ -11,6 +11,7 @@
 #include "harness/stability/growth_search.hpp"
 #include "harness/stability/growth_states.hpp"
 #include "harness/stability/stability_sweep.hpp"
+#include "harness/sweeps/sweep.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
 
@@ -126,6 +127,72 @@ TEST_CASE("a limit set by contact is labelled so", "[.][growth-sweep]") {
   INFO(r.growth.cause << "; growth " << r.growth.stable_dt << ", predicted " << r.predicted_dt);
   CHECK(r.growth.cause.rfind("set by contact", 0) == 0);
   CHECK(r.growth.stable_dt < 0.5 * r.predicted_dt);
+}
+
+TEST_CASE("estimates stopped once decided give the same limit in fewer steps",
+          "[stability][growth]") {
+  // the scene without contact at its rest state (the free bending modes' non-normal block at
+  // 1 below the limit): the early stop must leave every verdict as it was, so the bracket and
+  // the bisection take the same time steps and end at the same ones
+  const cloth::Integrator integrator =
+      GENERATE(cloth::Integrator::explicit_euler, cloth::Integrator::symplectic_euler,
+               cloth::Integrator::rk4);
+  const Scenario sc = parse_scenario(kFree, "free.toml", {});
+  const std::vector<GrowthState> states = growth_states(sc);
+  const EngineSpec engine =
+      with_integrator_and_dt(sc.engines.front(), integrator, sc.engines.front().dt);
+  const cloth::LinearSpectrum spectrum = cloth::linear_spectrum(cloth::build_model(sc.scene));
+  const double start = cloth::predicted_stable_dt(integrator, spectrum);
+  GrowthSearchOptions o;
+  o.decide_early = false;
+  const GrowthLimit full = search_growth_limit(sc, engine, states, start, o);
+  o.decide_early = true;
+  const GrowthLimit early = search_growth_limit(sc, engine, states, start, o);
+  INFO(cloth::integrator_name(integrator)
+       << ": full " << full.stable_dt << " .. " << full.first_unstable_dt << " in " << full.steps
+       << " steps, early " << early.stable_dt << " .. " << early.first_unstable_dt << " in "
+       << early.steps << " steps");
+  REQUIRE(std::isfinite(full.stable_dt));
+  REQUIRE(std::isfinite(full.first_unstable_dt));
+  CHECK(early.stable_dt == full.stable_dt);
+  CHECK(early.first_unstable_dt == full.first_unstable_dt);
+  CHECK(early.judged == full.judged);
+  CHECK(early.steps < full.steps);
+  // the row's numbers are the full estimates' (the physical rate measured again in full)
+  CHECK(early.growth_rate == full.growth_rate);
+  CHECK(early.physical_rate == full.physical_rate);
+  CHECK(early.cause == full.cause);
+}
+
+TEST_CASE("a first step of 5 % from the prediction brackets the same limit",
+          "[stability][growth]") {
+  // the verdicts do not depend on the path: the two brackets overlap; where the limit is
+  // within 5 % of the prediction (symplectic Euler, rk4 here) fewer steps are judged
+  const cloth::Integrator integrator =
+      GENERATE(cloth::Integrator::explicit_euler, cloth::Integrator::symplectic_euler,
+               cloth::Integrator::rk4);
+  const Scenario sc = parse_scenario(kFree, "free.toml", {});
+  const std::vector<GrowthState> states = growth_states(sc);
+  const EngineSpec engine =
+      with_integrator_and_dt(sc.engines.front(), integrator, sc.engines.front().dt);
+  const cloth::LinearSpectrum spectrum = cloth::linear_spectrum(cloth::build_model(sc.scene));
+  const double start = cloth::predicted_stable_dt(integrator, spectrum);
+  GrowthSearchOptions o;
+  const GrowthLimit doubling = search_growth_limit(sc, engine, states, start, o);
+  o.first_step = kPredictionFirstStep;
+  const GrowthLimit near = search_growth_limit(sc, engine, states, start, o);
+  INFO(cloth::integrator_name(integrator)
+       << ": predicted " << start << ", doubling " << doubling.stable_dt << " .. "
+       << doubling.first_unstable_dt << " in " << doubling.judged << " steps judged, 5 % "
+       << near.stable_dt << " .. " << near.first_unstable_dt << " in " << near.judged);
+  REQUIRE(std::isfinite(near.stable_dt));
+  REQUIRE(std::isfinite(near.first_unstable_dt));
+  CHECK(near.stable_dt < doubling.first_unstable_dt);
+  CHECK(doubling.stable_dt < near.first_unstable_dt);
+  CHECK(near.first_unstable_dt / near.stable_dt - 1 <= o.rel_tol);
+  if (std::abs(near.stable_dt / start - 1) < 0.05) {
+    CHECK(near.judged < doubling.judged);
+  }
 }
 
 TEST_CASE("a perturbation below round-off or not small is refused", "[stability][growth]") {

@@ -203,6 +203,13 @@ void check_smoothness(ScaledMap& map, const VectorXd& base, const MatrixXd& q, c
 
 }  // namespace
 
+int decided_side(std::complex<double> theta, double residual, double below, double above) {
+  const double r = std::abs(theta), delta = std::sqrt(residual);
+  if (r + delta < below) return -1;
+  if (r - delta > above) return 1;
+  return 0;
+}
+
 GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int steps,
                                const Matrix3X& free, const GrowthOptions& o) {
   check_arguments(sim, s, dt, steps, free, o);
@@ -220,6 +227,7 @@ GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int
   bool finite = base.allFinite();
   Eigen::VectorXcd z;
   Index m = 0;
+  int side = 0, agreeing = 0;  // the side decided at the last checks, and how many in a row
   while (finite && m < m_max) {
     VectorXd w = (map(e * q.col(m)) - base) / e;
     finite = w.allFinite();
@@ -243,6 +251,15 @@ GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int
     const double residual = h(m, m - 1) * std::abs(z[m - 1]) / z.norm();
     if (invariant || (m >= 2 && residual <= o.rel_tol * std::abs(out.eigenvalue))) {
       out.converged = true;
+      break;
+    }
+    // a caller that needs only a side of a threshold: stop once it is decided and stays so
+    const int now = decided_side(out.eigenvalue, residual, o.decide_below, o.decide_above);
+    agreeing = now != 0 && now == side ? agreeing + 1 : 1;
+    side = now;
+    if (m >= 2 && side != 0 && agreeing >= o.decide_checks &&
+        residual <= o.decide_residual * std::abs(out.eigenvalue)) {
+      out.decided = side;
       break;
     }
   }

@@ -60,6 +60,14 @@ struct GrowthOptions {
                                 // is below this times |theta| (|y| = 1)
   double nonsmooth_tol = 0.05;  // forward and backward differences disagreeing by more than
                                 // this (relative) call the state non-smooth
+  // a caller that needs only which side of a threshold rho is on (see decided_side):
+  double decide_below = 0;  // > 0: stop once rho is decided below this
+  double decide_above = std::numeric_limits<double>::infinity();  // finite: stop once rho is
+                                                                  // decided above this
+  int decide_checks = 2;          // consecutive convergence checks that must agree
+  double decide_residual = 1e-2;  // and the relative residual at most this (with 2 checks: no
+                                  // wrong side over 458 estimates of the seed and flag
+                                  // searches, docs/methods.md)
 };
 
 /// What one estimate found.
@@ -75,7 +83,17 @@ struct GrowthEstimate {
   int iterations = 0;            // Krylov steps made
   int products = 0;              // maps evaluated (each `steps` steps of the engine)
   bool converged = false;        // the residual met rel_tol within max_iterations
+  int decided = 0;               // -1: stopped early, rho decided below decide_below; +1: above
+                                 // decide_above; 0: ran to rel_tol or max_iterations
 };
+
+/// Which side of the thresholds the dominant Ritz value theta (residual |J y - theta y| with
+/// |y| = 1) is on, allowing for its error: -1 when |theta| + sqrt(residual) < below, +1 when
+/// |theta| - sqrt(residual) > above, else 0. The square root, not the residual itself (which
+/// bounds the error for a normal J only), because a Ritz value of a 2 by 2 Jordan block with
+/// coupling c, J's block for a free bending mode (x' = v: c = 1 in the scaled coordinates), is
+/// off by about sqrt(c residual).
+int decided_side(std::complex<double> theta, double residual, double below, double above);
 
 /// Estimates the growth of perturbations of state s under `steps` steps of dt of sim, whose
 /// free axes are free (3 by #P, 1 where the axis moves). sim is left in an unspecified state.
@@ -83,7 +101,10 @@ struct GrowthEstimate {
 /// dt <= 0, no free axis or shapes that do not match, and std::logic_error when sim cannot
 /// set its state. A map that overflows (a state that is not finite after the steps) gives rho
 /// and rate infinite and converged false. Costs iterations + 3 products: the base map, one
-/// per Krylov step, and a forward and a backward difference for the smoothness check.
+/// per Krylov step, and a forward and a backward difference for the smoothness check. With
+/// decide_below or decide_above set, stops as soon as decided_side has given the same nonzero
+/// side at decide_checks consecutive checks with the relative residual at most
+/// decide_residual (GrowthEstimate::decided); rho is then only that precise.
 GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int steps,
                                const Matrix3X& free, const GrowthOptions& o = {});
 

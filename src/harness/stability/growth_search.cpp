@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <map>
 #include <memory>
 
 #include "cloth/model/spring_set.hpp"
@@ -27,8 +28,24 @@ std::unique_ptr<cloth::Simulator> engine_at(const Scenario& sc, const EngineSpec
   return make_engine(spec, engine_scene(sc, spec));
 }
 
+/// The growth of the physical map at state s: the same time as one step of dt, in steps of
+/// dt / 8; adds its engine steps to steps.
+cloth::GrowthEstimate physical_growth(const Scenario& sc, const EngineSpec& e,
+                                      const cloth::Model& model, const GrowthState& s, double dt,
+                                      const cloth::GrowthOptions& go, long long* steps) {
+  const double h = dt / kPhysicalSubsteps;
+  auto fine = engine_at(sc, e, h);
+  const cloth::GrowthEstimate phys =
+      cloth::estimate_growth(*fine, s.state, h, kPhysicalSubsteps, model.free, go);
+  *steps += static_cast<long long>(phys.products) * kPhysicalSubsteps;
+  return phys;
+}
+
 /// The growth at one state: the one-step map, then (when it grows faster than the tolerance)
-/// the physical map in sub-steps.
+/// the physical map in sub-steps. Each estimate stops as soon as its side of the verdict's
+/// threshold is decided (cloth::GrowthOptions::decide_below): the one-step map's once it is
+/// below the tolerance (above it, its rate is the next threshold and is measured in full), the
+/// physical map's once it is on either side of sigma(dt) - growth_tol.
 StateGrowth judge_state(const Scenario& sc, const EngineSpec& e, const cloth::Model& model,
                         const GrowthState& s, double dt, const GrowthSearchOptions& o,
                         long long* steps) {
@@ -38,6 +55,7 @@ StateGrowth judge_state(const Scenario& sc, const EngineSpec& e, const cloth::Mo
   g.label = s.label;
   g.contacts = s.contacts;
   auto sim = engine_at(sc, e, dt);
+  if (o.decide_early) go.decide_below = std::exp(o.growth_tol * dt);
   g.estimate = cloth::estimate_growth(*sim, s.state, dt, 1, model.free, go);
   *steps += g.estimate.products;
   g.smooth = g.estimate.smooth;
@@ -46,12 +64,10 @@ StateGrowth judge_state(const Scenario& sc, const EngineSpec& e, const cloth::Mo
   if (!g.smooth || !(g.rate > o.growth_tol)) return g;
   if (interrupt_requested()) throw Interrupted();
 
-  // the physical growth over the same time, in steps of dt / 8
-  const double h = dt / kPhysicalSubsteps;
-  auto fine = engine_at(sc, e, h);
-  const cloth::GrowthEstimate phys =
-      cloth::estimate_growth(*fine, s.state, h, kPhysicalSubsteps, model.free, go);
-  *steps += static_cast<long long>(phys.products) * kPhysicalSubsteps;
+  // the physical growth over the same time: unstable when below sigma(dt) - growth_tol (> 0)
+  if (o.decide_early) go.decide_below = go.decide_above = std::exp((g.rate - o.growth_tol) * dt);
+  const cloth::GrowthEstimate phys = physical_growth(sc, e, model, s, dt, go, steps);
+  g.physical_decided = phys.decided != 0;
   if (!phys.smooth) {
     // no physical rate to compare with: no verdict at this state
     g.smooth = false;
@@ -98,8 +114,14 @@ class GrowthSearch {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - m_started).count() >
             m_o.max_seconds)
       throw OutOfTime();
-    ++m_limit.judged;
-    m_last = judge_growth(m_sc, m_e, m_model, m_states, dt, m_o, &m_limit.steps);
+    // a time step judged before (the bracket halving back to its start) is not judged again
+    if (const auto it = m_judged.find(dt); it != m_judged.end()) {
+      m_last = it->second;
+    } else {
+      ++m_limit.judged;
+      m_last = judge_growth(m_sc, m_e, m_model, m_states, dt, m_o, &m_limit.steps);
+      m_judged[dt] = m_last;
+    }
     const Verdict v = verdict_of(m_last);
     if (v == Verdict::unstable) {
       m_limit.first_unstable_dt = dt;
@@ -112,16 +134,22 @@ class GrowthSearch {
     return v;
   }
 
-  /// Brackets from dt_start: doubling while stable, halving while unstable.
+  /// Brackets from dt_start: a first step of first_step either way (the start, the
+  /// prediction, is mostly within a few per cent of the limit), then doubling while stable,
+  /// halving while unstable down to dt_start / 2^max_halvings.
   void bracket(double dt_start) {
-    double dt = std::min(dt_start, m_o.dt_max);
+    double dt = std::min(dt_start, m_o.dt_max), step = m_o.first_step;
     Verdict v = judge(dt);
-    for (int k = 0; v == Verdict::stable && dt < m_o.dt_max; ++k) {
-      dt = std::min(2 * dt, m_o.dt_max);
+    const bool unstable_at_start = v == Verdict::unstable;
+    for (; v == Verdict::stable && dt < m_o.dt_max; step = 2) {
+      dt = std::min(step * dt, m_o.dt_max);
       v = judge(dt);
     }
-    for (int k = 0; v == Verdict::unstable && k < m_o.max_halvings; ++k) {
-      dt /= 2;
+    // unstable past a stable start: bracketed already
+    if (!unstable_at_start) return;
+    const double lowest = std::min(dt_start, m_o.dt_max) * std::ldexp(1.0, -m_o.max_halvings);
+    for (step = m_o.first_step; v == Verdict::unstable && dt > lowest * (1 + 1e-12); step = 2) {
+      dt /= step;
       v = judge(dt);
     }
   }
@@ -144,6 +172,7 @@ class GrowthSearch {
     if (worst) {
       l.growth_rate = worst->rate;
       l.physical_rate = worst->physical_rate;
+      if (worst->physical_decided) l.physical_rate = full_physical_rate(*worst);
       l.mode = worst->estimate.mode;
       const GrowthState& s = state(worst->label);
       l.mode_energy = mode_energy_by_kind(m_model, s.state.x, l.mode);
@@ -156,6 +185,20 @@ class GrowthSearch {
   const GrowthState& state(const std::string& label) const {
     return *std::find_if(m_states.begin(), m_states.end(),
                          [&](const GrowthState& s) { return s.label == label; });
+  }
+
+  /// The physical rate of state g at first_unstable_dt measured in full: one stopped once its
+  /// side was decided is only that precise (an engine that fails keeps that one).
+  double full_physical_rate(const StateGrowth& g) {
+    cloth::GrowthOptions go;
+    go.perturbation = m_o.perturbation;
+    try {
+      return physical_growth(m_sc, m_e, m_model, state(g.label), m_limit.first_unstable_dt, go,
+                             &m_limit.steps)
+          .rate;
+    } catch (const cloth::EngineFailure&) {
+      return g.physical_rate;
+    }
   }
 
   /// A search stopped by its budget: what it has is a bound, or an unfinished bracket.
@@ -204,6 +247,7 @@ class GrowthSearch {
   std::chrono::steady_clock::time_point m_started;
   GrowthLimit m_limit;
   std::vector<StateGrowth> m_last, m_unstable;
+  std::map<double, std::vector<StateGrowth>> m_judged;  // by time step (s)
   double m_nonsmooth_dt = 0;
 };
 

@@ -188,7 +188,11 @@ void measure_growth(const Scenario& sc, const StabilityConfig& c,
   go.rel_tol = o.rel_tol;
   go.dt_max = o.dt_max;
   go.max_seconds = sc.max_run_seconds;
-  const double start = std::isfinite(row.predicted_dt) ? row.predicted_dt : c.engine.dt;
+  // a prediction is mostly within a few per cent of the limit: a first step of 5 %; an
+  // engine's own dt is no estimate of it: doubling or halving from the start
+  const bool predicted = std::isfinite(row.predicted_dt);
+  if (predicted) go.first_step = kPredictionFirstStep;
+  const double start = predicted ? row.predicted_dt : c.engine.dt;
   row.growth = search_growth_limit(sc, c.engine, states, start, go);
   if (std::isfinite(row.growth.stable_dt) && std::isfinite(row.growth.first_unstable_dt) &&
       std::isfinite(row.predicted_dt))
