@@ -85,7 +85,12 @@ std::vector<OutputFile> run_files() {
          "without a support"},
         {"final_kinetic", "J", "kinetic energy of the last logged state"},
         {"static_residual", "1",
-         "largest net force on a free particle over its weight, last logged state; 0 at rest"}}},
+         "largest net force on a free particle over its weight, last logged state; 0 at rest"},
+        {"newton_iterations", "count",
+         "Newton iterations over the run (implicit solvers; 0 for the others and non-custom "
+         "engines)"},
+        {"cg_iterations", "count", "conjugate-gradient iterations over the run"},
+        {"cg_unconverged", "count", "linear solves that stopped at their iteration limit"}}},
       {"frames.csv",
        "clothbench run, in the run folder",
        "one engine at one logged frame",

@@ -544,7 +544,11 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
       summary.skip();
     else
       summary.add(dc);
-    summary.add(run.final_kinetic).add(run.final_static_residual).end_row();
+    summary.add(run.final_kinetic).add(run.final_static_residual);
+    summary.add(static_cast<long long>(run.counters.newton_iterations))
+        .add(static_cast<long long>(run.counters.cg_iterations))
+        .add(static_cast<long long>(run.counters.cg_unconverged))
+        .end_row();
   }
 }
 

@@ -1,0 +1,46 @@
+#!/usr/bin/env bash
+# scripts/large-steps-cost (issue 30, part 2) on small grids and a short run: symplectic Euler's
+# step is the largest that divides a frame and is at most 0.9 of the limit the blow-up search
+# measured (and the next larger divisor is not), each table row is its run's summary.csv row,
+# the explicit run is stable, and bad options are refused before any work.
+# Usage: large_steps_cost.sh CLOTHBENCH SOURCE_DIR WORK_DIR
+set -u
+clothbench=$1 source=$2 work=$3
+source "$(dirname "$0")/expect.sh"
+script=$source/scripts/large-steps-cost
+
+expect 2 "$script" --clothbench "$clothbench" --sizes 8,x --out "$work/bad"
+grep -q "sizes" "$work/stderr" || fail "--sizes 8,x: $(cat "$work/stderr")"
+[ ! -e "$work/bad" ] || fail "--sizes 8,x wrote $work/bad"
+expect 2 "$script" --clothbench "$clothbench" --fraction 1.5 --out "$work/bad"
+[ ! -e "$work/bad" ] || fail "--fraction 1.5 wrote $work/bad"
+
+expect 0 "$script" --clothbench "$clothbench" --sizes 8,12 --set duration=0.2 --out "$work/cost"
+/usr/bin/python3 - "$work/cost" <<'PY' || fail "large_steps_cost.csv does not hold"
+import csv, math, sys
+out = sys.argv[1]
+rows = list(csv.DictReader(open(f"{out}/large_steps_cost.csv")))
+assert sorted({r["particles_per_side"] for r in rows}) == ["12", "8"], rows
+frame = 1 / 30
+for n in ("8", "12"):
+    mine = [r for r in rows if r["particles_per_side"] == n]
+    summary = {r["engine"]: r for r in csv.DictReader(open(f"{out}/{n}/run/summary.csv"))}
+    assert {r["engine"] for r in mine} == set(summary), (mine, summary)
+    limit = float(next(csv.DictReader(open(f"{out}/{n}/stability/stability.csv")))["stable_dt"])
+    for r in mine:
+        s = summary[r["engine"]]
+        for k in ("dt", "wall_s", "steps", "newton_iterations", "cg_iterations"):
+            assert float(r[k]) == float(s[k]), (k, r[k], s[k])
+        assert math.isclose(float(r["wall_per_simulated_s"]),
+                            float(s["wall_s"]) / (int(s["steps"]) * float(s["dt"])), rel_tol=1e-12)
+        if r["engine"] == "custom-symplectic-euler":
+            dt, k = float(r["dt"]), round(frame / float(r["dt"]))
+            assert math.isclose(dt * k, frame, rel_tol=1e-12), dt
+            assert dt <= 0.9 * limit * (1 + 1e-12) < frame / (k - 1), (dt, limit)
+            assert r["stable"] == "1" and float(r["limit_dt"]) == limit
+        else:
+            assert int(r["newton_iterations"]) > 0, r
+PY
+[ -s "$work/cost/large_steps_cost.png" ] || fail "no large_steps_cost.png"
+
+exit $((failures > 0))
