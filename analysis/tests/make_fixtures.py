@@ -399,13 +399,13 @@ def _write_summary(folder, results, ref):
         drape = (frames[-1]["shadow_area"] - support) / (cloth_area - support) if stable else ""
         rows.append([name, kind, integrator, dt, steps, steps * us * 1e-6, us,
                      steps * evals[integrator], int(stable), "" if stable else blowup,
-                     energy_err, final_rms, max_rms, drape, frames[-1]["kinetic"], "", 0, 0, 0])
+                     energy_err, final_rms, max_rms, drape, frames[-1]["kinetic"], "", 0, 0, 0, 0])
     write_csv(os.path.join(folder, "summary.csv"),
               ["engine", "kind", "integrator", "dt", "steps", "wall_s", "us_per_step",
                "force_evals",
                "stable", "blowup_t", "max_energy_error", "final_rms_vs_reference",
                "max_rms_vs_reference", "drape_coefficient", "final_kinetic", "static_residual",
-               "newton_iterations", "cg_iterations", "cg_unconverged"],
+               "newton_iterations", "cg_iterations", "cg_unconverged", "newton_unconverged"],
               rows)
 
 

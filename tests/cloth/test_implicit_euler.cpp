@@ -223,3 +223,26 @@ TEST_CASE("two-level CG on a rod one particle wide gives the direct solver's ste
   REQUIRE(direct.norm() > 0.0);
   CHECK((direct - two_level).norm() <= 1e-9 * direct.norm());
 }
+
+TEST_CASE("a step whose Newton iteration ends above its tolerance is counted as unconverged",
+          "[integrator]") {
+  // the seed scene folding over the sphere: three Newton iterations leave some steps above the
+  // tolerance and not others; the count must be those steps, read from each step's residual
+  MassSpringCloth start = folding_cloth();
+  SolverOptions o = line_search_options(LinearSolver::block_jacobi_cg);
+  o.newton_iterations = 3;
+  MassSpringCloth c(seed_scene(24), o);
+  c.set_state(start.positions(), start.velocities());
+  std::int64_t above = 0;
+  for (int step = 0; step < 12; ++step) {
+    c.step(kFrame);
+    if (c.newton()->last_residual() > o.newton_tolerance * kFrame) ++above;
+  }
+  CHECK(above > 0);
+  CHECK(above < 12);
+  CHECK(c.counters().newton_unconverged == above);
+  // solved to its tolerance, a step is not counted
+  const MassSpringCloth converged = converged_step(start, o, 1e-6);
+  CHECK(converged.newton()->last_residual() <= 1e-6);
+  CHECK(converged.counters().newton_unconverged == 0);
+}

@@ -212,6 +212,7 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
     m_residual = residual(m, h, m_v);
     m_history.push_back(m_phi);
   }
+  if (m_residual > velocity_tolerance) ++counters.newton_unconverged;
   finish_contacts(x.cols());
   if (m_use_barrier) finish_barrier(h);
   // held axes have v = 0 exactly, so x stays x0 there

@@ -19,6 +19,8 @@ struct Counters {
   std::int64_t newton_iterations = 0;
   std::int64_t contact_tests = 0;           // particle-sphere distance tests
   std::int64_t cg_unconverged = 0;          // linear solves that stopped at the iteration limit
+  std::int64_t newton_unconverged = 0;      // implicit steps whose Newton iteration ended (at its
+                                            // limit or a failed line search) above its tolerance
   std::int64_t constraint_projections = 0;  // xpbd: one spring constraint projected once
   std::int64_t linear_solves = 0;           // projective: prefactored global solves (3 axes each)
   std::int64_t self_contact_tests = 0;      // self-contact narrow-phase pair tests

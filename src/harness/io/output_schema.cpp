@@ -90,7 +90,10 @@ std::vector<OutputFile> run_files() {
          "Newton iterations over the run (implicit solvers; 0 for the others and non-custom "
          "engines)"},
         {"cg_iterations", "count", "conjugate-gradient iterations over the run"},
-        {"cg_unconverged", "count", "linear solves that stopped at their iteration limit"}}},
+        {"cg_unconverged", "count", "linear solves that stopped at their iteration limit"},
+        {"newton_unconverged", "count",
+         "implicit Euler steps (line-search Newton) whose Newton iteration ended above "
+         "newton_tolerance: at newton_iterations, or with no descent left"}}},
       {"frames.csv",
        "clothbench run, in the run folder",
        "one engine at one logged frame",

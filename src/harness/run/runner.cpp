@@ -338,6 +338,10 @@ RunResult run_scenario(const Scenario& unperturbed, const RunOptions& options) {
     if (run.counters.cg_unconverged > 0)
       msg << "; " << run.counters.cg_unconverged
           << " linear solves stopped at cg_max_iterations before reaching cg_tolerance";
+    if (run.counters.newton_unconverged > 0)
+      msg << "; " << run.counters.newton_unconverged << " of " << run.counters.steps
+          << " steps ended Newton above newton_tolerance (newton_iterations reached or no "
+             "descent): those steps are not implicit Euler's solution";
     progress.line(msg.str());
     result.runs.push_back(std::move(run));
   }
@@ -548,6 +552,7 @@ void write_summary(const RunResult& result, CsvWriter& summary) {
     summary.add(static_cast<long long>(run.counters.newton_iterations))
         .add(static_cast<long long>(run.counters.cg_iterations))
         .add(static_cast<long long>(run.counters.cg_unconverged))
+        .add(static_cast<long long>(run.counters.newton_unconverged))
         .end_row();
   }
 }
