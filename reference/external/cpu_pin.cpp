@@ -53,7 +53,7 @@ CpuPin::CpuPin() : m_thread(static_cast<int>(::gettid())) {
     warn_unpinned(std::string("cannot read this thread's CPUs: ") + std::strerror(errno));
     return;
   }
-  // the CPU is booked before the pin, so that a thread pinning at the same time takes another
+  // choice, pin and booking under one lock, so that a thread pinning at once takes another CPU
   PinBook& book = pin_book();
   const std::lock_guard<std::mutex> lock(book.mutex);
   const int cpu = least_pinned(m_previous, book, ::sched_getcpu());
