@@ -108,6 +108,8 @@ ExternalEngine::ExternalEngine(const ExternalOptions& options, const cloth::Scen
   m_v = cloth::Matrix3X::Zero(3, m_particles);
   m_next_x.resize(3, m_particles);
   m_next_v.resize(3, m_particles);
+  // the thread on its CPU before the spawn, so that the program starts on it
+  if (options.share_cpu) m_pin = std::make_unique<CpuPin>();
   // room in the socket for a whole state (header, head, x and v), the largest message
   m_process =
       std::make_unique<ExternalProcess>(options.command, 16 + 32 + 48 * std::size_t(m_particles));

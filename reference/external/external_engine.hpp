@@ -12,6 +12,7 @@
 #include "cloth/model/model.hpp"
 #include "cloth/model/scene.hpp"
 #include "cloth/model/simulator.hpp"
+#include "reference/external/cpu_pin.hpp"
 #include "reference/external/external_options.hpp"
 #include "reference/external/external_process.hpp"
 
@@ -44,7 +45,10 @@ std::vector<char> external_model_payload(const cloth::Model& model, double dt);
 /// other runs go on). The process is killed and reaped on destruction at the latest.
 class ExternalEngine final : public cloth::Simulator {
  public:
-  /// Starts options.command and sends it the model of scene stepped by dt (s).
+  /// Starts options.command and sends it the model of scene stepped by dt (s). With
+  /// options.share_cpu the calling thread is pinned to one CPU first, which the program
+  /// inherits; the thread's previous CPUs come back when the engine is destroyed. The engine is
+  /// to be stepped from the thread that built it.
   ExternalEngine(const ExternalOptions& options, const cloth::Scene& scene, double dt);
 
   void step(double dt) override { advance(dt, 1); }
@@ -66,6 +70,9 @@ class ExternalEngine final : public cloth::Simulator {
   void read_state();
   /// Process id of the engine (tests check it is reaped).
   int pid() const { return m_process->pid(); }
+  /// The CPU the engine and the thread that built it share (share_cpu); -1 when they are not
+  /// pinned (share_cpu false, or the system refused).
+  int cpu() const { return m_pin ? m_pin->cpu() : -1; }
 
  private:
   /// Sends one frame of type whose payload is the count parts in order (at most 3), header and
@@ -87,6 +94,7 @@ class ExternalEngine final : public cloth::Simulator {
   void receive_state();
 
   ExternalOptions m_options;
+  std::unique_ptr<CpuPin> m_pin;  // before the process: the pin outlives the child
   std::unique_ptr<ExternalProcess> m_process;
   int m_particles = 0;
   cloth::Matrix3X m_x, m_v;

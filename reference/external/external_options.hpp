@@ -17,6 +17,10 @@ struct ExternalOptions {
   /// scenario file's folder already resolved by the loader).
   std::vector<std::string> command;
   double step_timeout = 60.0;  // s of wall clock the engine has to answer one request
+  /// The run's thread and the engine's process on one CPU for the engine's life (cpu_pin.hpp):
+  /// the protocol is a strict alternation, so one CPU loses no parallelism and the hand-overs
+  /// stay on it. For single-threaded engines: a multi-threaded one would share that one CPU.
+  bool share_cpu = false;
 };
 
 /// True when CLOTHBENCH_ALLOW_EXTERNAL=1 is set (the CLI's --allow-external sets it).

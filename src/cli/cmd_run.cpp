@@ -29,13 +29,14 @@ struct RunArgs {
   double max_run_seconds = 0;  // s, 0: no limit
 };
 
-/// --explain: the program each external engine starts, one line each on stderr.
+/// --explain: the program each external engine starts and how, one line each on stderr.
 void explain_external_engines(const Scenario& sc) {
   for (const EngineSpec& e : sc.engines) {
     if (e.kind != EngineKind::external) continue;
     std::cerr << "engine " << e.name << " runs the external program:";
     for (const std::string& word : e.external.command) std::cerr << ' ' << toml_string(word);
-    std::cerr << " (step_timeout = " << e.external.step_timeout << " s)\n";
+    std::cerr << " (step_timeout = " << e.external.step_timeout
+              << " s, share_cpu = " << (e.external.share_cpu ? "true" : "false") << ")\n";
   }
 }
 

@@ -6,7 +6,9 @@
 /// comes and goes falls on both alike, and reports their ratio (protocol / in-process time,
 /// the overhead is ratio - 1) and the time added per frame, and splits a protocol frame into
 /// the harness's CPU, the engine's CPU and the time neither ran (idle_us: the hand-overs
-/// between the processes, including their waits for a CPU on a loaded machine).
+/// between the processes, including their waits for a CPU on a loaded machine). Its argument
+/// share_cpu is the engine key: 0 unpinned, 1 the benchmark's thread and the engine on one CPU
+/// (the in-process frames then run on that CPU too), so one run reports both ratios.
 /// BM_ExternalProtocol and
 /// BM_ExternalInProcess time each alone (steps per second); the protocol's also counts the
 /// sleeps (voluntary context switches) of the harness and of the engine per frame (at best one
@@ -112,7 +114,10 @@ double thread_cpu() {
 
 void BM_ExternalOverhead(benchmark::State& state) {
   using Clock = std::chrono::steady_clock;
-  clothbench::reference::ExternalEngine external(example_engine(), free_scene(), kDt);
+  clothbench::reference::ExternalOptions options = example_engine();
+  options.share_cpu = state.range(0) != 0;
+  clothbench::reference::ExternalEngine external(options, free_scene(), kDt);
+  if (options.share_cpu && external.cpu() < 0) state.SkipWithError("share_cpu: not pinned");
   example::MassSpringEngine local = in_process_engine();
   // s, summed over the frames: wall clock and the harness thread's CPU of each side
   double protocol = 0.0, in_process = 0.0, protocol_cpu = 0.0, in_process_cpu = 0.0;
@@ -155,6 +160,9 @@ double largest(const std::vector<double>& v) {
   return v.empty() ? 0.0 : *std::max_element(v.begin(), v.end());
 }
 BENCHMARK(BM_ExternalOverhead)
+    ->ArgName("share_cpu")
+    ->Arg(0)
+    ->Arg(1)
     ->Unit(benchmark::kMicrosecond)
     ->UseRealTime()
     ->ComputeStatistics("min", smallest)

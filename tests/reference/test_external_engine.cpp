@@ -2,25 +2,32 @@
 /// The external-engine protocol (reference/external): the example engines (Python + numpy, and
 /// C++) against the custom engine's symplectic Euler on the seed scene without contact, the
 /// state requests, and every way an engine can misbehave (tests/data/external/
-/// misbehaving_engine.py), which must fail the engine's run with its reason and never hang.
+/// misbehaving_engine.py), which must fail the engine's run with its reason and never hang;
+/// share_cpu (the engine and the run's thread on one CPU, cpu_pin.hpp).
 
+#include <sched.h>
 #include <signal.h>
 #include <sys/wait.h>
 
+#include <atomic>
 #include <catch2/catch.hpp>
 #include <chrono>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
 #include <set>
+#include <sstream>
 #include <thread>
 
 #include "cloth/integrators/mass_spring_cloth.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/runner.hpp"
 #include "harness/scenario/scenario_loader.hpp"
+#include "harness/scenario/scenario_writer.hpp"
+#include "harness/stability/stability_sweep.hpp"
 #include "reference/external/external_engine.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
@@ -315,4 +322,186 @@ command = ["python3", "engines/mine.py", "-v", "not/a/file", "/abs/path"]
       Catch::Contains("a non-empty array of non-empty strings"));
   CHECK_THROWS_WITH(parse_scenario("[[engine]]\nkind = \"external\"\n", "<t>", {}, {}),
                     Catch::Contains("needs a command"));
+}
+
+namespace {
+
+/// The CPUs the calling thread may run on.
+std::set<int> thread_cpus() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  REQUIRE(::sched_getaffinity(0, sizeof set, &set) == 0);
+  std::set<int> out;
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &set)) out.insert(c);
+  return out;
+}
+
+/// The CPUs process pid may run on, as the kernel lists them in /proc/PID/status
+/// (Cpus_allowed_list: "0-3,6").
+std::set<int> process_cpus(int pid) {
+  std::ifstream status("/proc/" + std::to_string(pid) + "/status");
+  std::set<int> out;
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("Cpus_allowed_list:", 0) != 0) continue;
+    std::istringstream list(line.substr(18));
+    for (std::string range; std::getline(list, range, ',');) {
+      const size_t dash = range.find('-');
+      const int first = std::stoi(range.substr(0, dash));
+      const int last = dash == std::string::npos ? first : std::stoi(range.substr(dash + 1));
+      for (int c = first; c <= last; ++c) out.insert(c);
+    }
+  }
+  return out;
+}
+
+/// True when this system lets a thread set its own CPUs (some restricted containers do not:
+/// there share_cpu runs unpinned, and the tests below have nothing to check).
+bool pinning_allowed() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  return ::sched_getaffinity(0, sizeof set, &set) == 0 &&
+         ::sched_setaffinity(0, sizeof set, &set) == 0;
+}
+
+ExternalOptions example_engine(bool share_cpu) {
+  ExternalOptions o;
+  o.command = {CLOTHBENCH_EXAMPLE_ENGINE};
+  o.step_timeout = 10.0;
+  o.share_cpu = share_cpu;
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("With share_cpu an external engine runs on its thread's one CPU until destroyed",
+          "[external]") {
+  if (!pinning_allowed()) {
+    WARN("this system does not let a thread set its CPUs: nothing to check");
+    return;
+  }
+  const std::set<int> before = thread_cpus();
+  {
+    ExternalEngine e(example_engine(true), free_seed_scene(), 1e-3);
+    REQUIRE(e.cpu() >= 0);
+    CHECK(before.count(e.cpu()) == 1);
+    // the thread and the program may run on that CPU alone, and do
+    const std::set<int> one = {e.cpu()};
+    CHECK(thread_cpus() == one);
+    CHECK(process_cpus(e.pid()) == one);
+    e.advance(1e-3, 5);
+    CHECK(::sched_getcpu() == e.cpu());
+    CHECK(e.time() == Approx(5e-3));
+  }
+  // the thread has its CPUs back
+  CHECK(thread_cpus() == before);
+  // without the key neither is pinned: the program has the thread's CPUs
+  ExternalEngine unpinned(example_engine(false), free_seed_scene(), 1e-3);
+  CHECK(unpinned.cpu() == -1);
+  CHECK(process_cpus(unpinned.pid()) == before);
+  CHECK(thread_cpus() == before);
+}
+
+TEST_CASE("Engines with share_cpu on two threads at once get two CPUs where there are two",
+          "[external]") {
+  if (!pinning_allowed()) {
+    WARN("this system does not let a thread set its CPUs: nothing to check");
+    return;
+  }
+  const std::set<int> allowed = thread_cpus();
+  // each thread keeps its engine until both have started, as a -j 2 sweep's runs overlap
+  std::atomic<int> started{0};
+  int cpus[2] = {-1, -1}, child_cpus[2] = {0, 0};
+  bool restored[2] = {false, false};
+  std::thread runs[2];
+  for (int k = 0; k < 2; ++k)
+    runs[k] = std::thread([&, k] {
+      const std::set<int> mine = thread_cpus();
+      {
+        ExternalEngine e(example_engine(true), free_seed_scene(), 1e-3);
+        cpus[k] = e.cpu();
+        child_cpus[k] = int(process_cpus(e.pid()).size());
+        ++started;
+        while (started.load() < 2) std::this_thread::yield();
+        e.advance(1e-3, 2);
+      }
+      restored[k] = thread_cpus() == mine;
+    });
+  for (std::thread& t : runs) t.join();
+  for (int k = 0; k < 2; ++k) {
+    CHECK(allowed.count(cpus[k]) == 1);
+    CHECK(child_cpus[k] == 1);
+    CHECK(restored[k]);
+  }
+  // distinct CPUs while there are enough; with one CPU both share it
+  if (allowed.size() >= 2)
+    CHECK(cpus[0] != cpus[1]);
+  else
+    CHECK(cpus[0] == cpus[1]);
+}
+
+namespace {
+
+/// stability.csv of a blow-up search with 2 jobs over two C++ example engines (15 x 15 free
+/// seed scene, 0.05 s horizon), with share_cpu as given.
+std::string stability_csv(bool share_cpu) {
+  ::setenv(reference::kAllowExternalVariable, "1", 1);
+  std::string text = R"(
+name = "share"
+duration = 0.05
+frame_interval = 0.05
+[cloth]
+particles = [15, 15]
+size = [4.0, 4.0]
+[[constraint]]
+select = "corners"
+hold = "xyz"
+)";
+  for (const char* name : {"a", "b"})
+    text += std::string("[[engine]]\nname = \"") + name + "\"\nkind = \"external\"\ncommand = [\"" +
+            CLOTHBENCH_EXAMPLE_ENGINE + "\"]\nshare_cpu = " + (share_cpu ? "true" : "false") +
+            "\ndt = 1e-3\n";
+  const Scenario sc = parse_scenario(text, "<test>", {}, {});
+  test::TempDir dir(share_cpu ? "share-cpu-on" : "share-cpu-off");
+  StabilityOptions o;
+  o.out_dir = dir.str();
+  o.jobs = 2;
+  o.progress = false;
+  o.method = StabilityMethod::blowup;
+  const std::vector<StabilityRow> rows = run_stability(sc, o);
+  ::unsetenv(reference::kAllowExternalVariable);
+  REQUIRE(rows.size() == 2);
+  CHECK(std::isfinite(rows[0].first_unstable_dt));
+  std::ifstream in(dir.path / "stability.csv");
+  std::ostringstream all;
+  all << in.rdbuf();
+  return all.str();
+}
+
+}  // namespace
+
+TEST_CASE("A -j 2 stability sweep with share_cpu writes what it writes without",
+          "[external][stability]") {
+  const std::string off = stability_csv(false), on = stability_csv(true);
+  CHECK(off.find("\na,") != std::string::npos);
+  CHECK(on == off);
+}
+
+TEST_CASE("share_cpu is an external engine's key, kept by the scenario writer",
+          "[external][scenario]") {
+  const std::string engine = std::string("[[engine]]\nkind = \"external\"\ncommand = [\"") +
+                             CLOTHBENCH_EXAMPLE_ENGINE + "\"]\n";
+  CHECK_FALSE(parse_scenario(engine, "<t>", {}, {}).engines[0].external.share_cpu);
+  const Scenario on = parse_scenario(engine + "share_cpu = true\n", "<t>", {}, {});
+  CHECK(on.engines[0].external.share_cpu);
+  CHECK(parse_scenario(scenario_to_toml(on), "<t>", {}, {}).engines[0].external.share_cpu);
+  CHECK_THROWS_WITH(parse_scenario(engine + "share_cpu = 1\n", "<t>", {}, {}),
+                    Catch::Contains("share_cpu") && Catch::Contains("true or false"));
+  // other kinds refuse it, naming the kind it belongs to
+  const std::string kind = GENERATE(std::string("custom"), std::string("bullet-softbody"));
+  CAPTURE(kind);
+  CHECK_THROWS_WITH(
+      parse_scenario("[[engine]]\nkind = \"" + kind + "\"\nshare_cpu = true\n", "<t>", {}, {}),
+      Catch::Contains("share_cpu") && Catch::Contains("applies only to external engines") &&
+          Catch::Contains("this one is " + kind));
 }

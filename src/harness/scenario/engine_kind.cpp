@@ -46,7 +46,7 @@ const std::vector<EngineKindInfo>& engine_kind_table() {
        false,
        false,
        "not gated (an external engine books its own dissipation, which the harness cannot check)",
-       {"command", "step_timeout"}}};
+       {"command", "step_timeout", "share_cpu"}}};
   return table;
 }
 

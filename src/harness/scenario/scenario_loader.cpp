@@ -249,7 +249,8 @@ void read_mujoco_options(const Reader& r, const At& at, reference::MujocoOptions
   o.elliptic = r.choice(at, "cone", "pyramidal", {"pyramidal", "elliptic"}) == "elliptic";
 }
 
-/// external: the command, a non-empty array of non-empty strings, and the time budget.
+/// external: the command, a non-empty array of non-empty strings, the time budget and whether
+/// it shares the run's CPU.
 void read_external_options(const Reader& r, const At& at, reference::ExternalOptions& o) {
   const toml::node* n = at.table.get("command");
   if (!n) r.fail(&at.table, at.key("command"), "an external engine needs a command");
@@ -261,6 +262,7 @@ void read_external_options(const Reader& r, const At& at, reference::ExternalOpt
   }
   if (!a || a->empty()) r.expected(*n, at.key("command"), "a non-empty array of non-empty strings");
   o.step_timeout = r.number(at, "step_timeout", o.step_timeout, kPositive);
+  o.share_cpu = r.boolean(at, "share_cpu", o.share_cpu);
 }
 
 /// The command's words that name a file or folder relative to the scenario file's folder,

@@ -458,6 +458,10 @@ void engine_keys(std::vector<ScenarioKey>& out) {
             "(docs/external-engines.md)");
   ext.number("step_timeout", "s", x.step_timeout, kPositive,
              "wall clock the program has to answer one request before it is killed");
+  ext.other("share_cpu", "boolean", "", boolean(x.share_cpu), "true or false",
+            "the run's thread and the program on one CPU for the run (less protocol overhead "
+            "for a single-threaded program; a multi-threaded one would be slowed: "
+            "docs/external-engines.md)");
 }
 
 }  // namespace

@@ -258,6 +258,8 @@ std::string scenario_to_toml(const Scenario& s) {
       for (size_t k = 0; k < e.external.command.size(); ++k)
         o << (k ? ", " : "") << toml_string(e.external.command[k]);
       o << "]\nstep_timeout = " << d(e.external.step_timeout) << "  # s\n";
+      // written when set only: a sweep written before the key resumes as before
+      if (e.external.share_cpu) o << "share_cpu = true\n";
     }
   }
   return o.str();
