@@ -68,7 +68,8 @@ SCHEMAS = {
          "min_y", "max_penetration", "shadow_area", "stable"],
         text=["engine"], flags=["stable"], keys=["engine", "t", "stable"],
         optional=["contacts", "contact_fx", "contact_fy", "contact_fz", "max_stretch",
-                  "max_compression", "self_intersections", "min_self_distance", "handle_work"]),
+                  "max_compression", "self_intersections", "min_self_distance", "handle_work",
+                  "collider_work"]),
     "divergence.csv": Schema(
         ["engine", "reference", "t", "rms_distance", "max_distance", "com_distance",
          "energy_difference", "shadow_area_difference"],

@@ -95,6 +95,13 @@ constexpr double kStickDisplacement = 1e-9;  // m
 /// step friction removes exactly mu times the normal speed change and symplectic Euler follows
 /// s_N = a h^2 N (N + 1) / 2 exactly; round-off of 500 steps (measured 1e-14) only.
 constexpr double kSlideAccelerationRelative = 1e-9;
+/// A collider's books against their closed forms (a uniform cloth on a moving floor) and a
+/// collider's work against its velocity times the impulse it gave: sums over 64 particles and up
+/// to 1000 steps of terms of O(1) J, round-off of a few eps each (measured: below 1e-12).
+constexpr double kColliderWorkRoundoff = 1e-9;
+/// The work relative to the colliders is never positive: round-off of the step's energy terms,
+/// a few eps of the colliders' work.
+constexpr double kContactWorkSign = 1e-12;
 
 /// Growth of a map that is linear to round-off (one particle on a spring along its axis):
 /// forward differences of relative size 1e-7 carry round-off of about eps / 1e-7 ~ 2e-9 of

@@ -11,11 +11,12 @@ STEM = "energy"
 TITLE = "Energy over time"
 CAPTION = ("Energy over time per engine (left): kinetic, gravity potential relative to its initial "
            "value, elastic potential, the energy dissipated by dampers and drag, the net work of "
-           "the contact response, the work of the handles' holders (the harness's, from the "
+           "the contact response relative to the colliders, the work of the moving colliders' "
+           "motion, the work of the handles' holders (the harness's, from the "
            "scene's forces on the handled particles) and, for a Bullet engine, the unbooked "
            "balance of its steps with a contact or a projected handle (each drawn where it is "
-           "not zero). Right: the energy error, total + dissipated − contact work − handle work "
-           "− unbooked − initial total, which is zero for an exact integrator.")
+           "not zero). Right: the energy error, total + dissipated − contact work − collider work "
+           "− handle work − unbooked − initial total, which is zero for an exact integrator.")
 
 # frames.csv column, legend text, colour
 QUANTITIES = [
@@ -24,6 +25,7 @@ QUANTITIES = [
     ("elastic_potential", "elastic potential", "tab:orange"),
     ("dissipated", "dissipated", "tab:purple"),
     ("contact_work", "contact work", "tab:brown"),
+    ("collider_work", "collider work", "tab:pink"),
     ("unbooked", "unbooked", "tab:gray"),
     ("handle_work", "handle work", "tab:olive"),
 ]

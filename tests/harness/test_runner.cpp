@@ -125,6 +125,7 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
                                                   "elastic_potential",
                                                   "dissipated",
                                                   "contact_work",
+                                                  "collider_work",
                                                   "unbooked",
                                                   "handle_work",
                                                   "total_energy",
@@ -160,11 +161,13 @@ TEST_CASE("an end-to-end run writes every column with consistent values", "[scen
     if (k == 0) e0 = total;
     CHECK(frames.num(r, "energy_error") ==
           Approx(total + frames.num(r, "dissipated") - frames.num(r, "contact_work") -
-                 frames.num(r, "handle_work") - frames.num(r, "unbooked") - e0)
+                 frames.num(r, "collider_work") - frames.num(r, "handle_work") -
+                 frames.num(r, "unbooked") - e0)
               .margin(1e-9));
     CHECK(frames.num(r, "dissipated") >= 0.0);
     // the sphere is out of reach: no contact work, and a custom engine books everything
     CHECK(frames.num(r, "contact_work") == 0.0);
+    CHECK(frames.num(r, "collider_work") == 0.0);
     CHECK(frames.num(r, "unbooked") == 0.0);
     CHECK(frames.num(r, "handle_work") == 0.0);  // no handle
     CHECK(frames.num(r, "max_strain") >= frames.num(r, "mean_strain"));

@@ -115,7 +115,9 @@ void resolve_each(const std::vector<Shape>& shapes, double t, double h, const Ma
       const ContactVelocity cv = contact_velocity(vold, vs, nrm, s);
       const double keep = cv.keep;
       v.col(p) += free.col(p).cwiseProduct(cv.v - vold);
-      tally.impulse += mass[p] * (v.col(p) - vold);
+      const Vector3 impulse = mass[p] * (v.col(p) - vold);
+      tally.impulse += impulse;
+      tally.collider_work += impulse.dot(vs);
       // friction shortens the step's travel along the surface alike, so that a sticking
       // particle stays put on the collider
       Vector3 travel = x.col(p) - x0.col(p) - moved;

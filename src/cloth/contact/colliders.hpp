@@ -40,7 +40,8 @@ SurfacePoint surface_point(const Sphere& s, double t, const Vector3& x);
 /// @param v     3 by #P velocities (m/s)
 /// @param free  3 by #P, 1 for a free axis, 0 for a held one
 /// @param mass  #P masses (kg)
-/// @param tally counts the contacts and adds their impulse
+/// @param tally counts the contacts and adds their impulse and the work of the shapes' motion
+///              (impulse . the shape's velocity over the step)
 /// @return particle-shape distance tests made (#P per shape)
 std::int64_t resolve_shape_contacts(const Shapes& shapes, double t, double h, const Matrix3X& x0,
                                     Matrix3X& x, Matrix3X& v, const Matrix3X& free,

@@ -76,7 +76,7 @@ double ColliderBarrier::energy(const Model& m, double t, const Matrix3X& x) cons
 }
 
 void ColliderBarrier::contacts(const Model& m, double t, const Matrix3X& x,
-                               std::vector<BarrierContact>& out) const {
+                               std::vector<BarrierContact>& out, double h) const {
   out.clear();
   if (m_empty) return;
   for_each_near(m, m_covered, t, x, [&](int p, const Collider& c, const SurfacePoint& sp) {
@@ -87,6 +87,7 @@ void ColliderBarrier::contacts(const Model& m, double t, const Matrix3X& x,
     b.distance = sp.distance;
     b.force = -kappa * barrier_slope(sp.distance, c.margin);
     b.stiffness = kappa * barrier_curvature(sp.distance, c.margin);
+    if (h > 0.0) b.collider_velocity = (c.displacement(t) - c.displacement(t - h)) / h;
     out.push_back(b);
   });
 }
@@ -161,14 +162,22 @@ double StepFriction::energy(const Matrix3X& v) const {
   return e;
 }
 
+Vector3 StepFriction::force(const FrictionContact& c, const Matrix3X& v) const {
+  const Vector3 u = sliding(c, v);
+  const double y = u.norm();
+  // f1(y) / y, finite as y -> 0 (2 / eps)
+  const double per_length = y >= m_eps ? 1.0 / y : (2.0 - y / m_eps) / m_eps;
+  return -(c.bound * per_length) * u;
+}
+
 void StepFriction::add_forces(const Matrix3X& v, Matrix3X& f) const {
-  for (const FrictionContact& c : m_contacts) {
-    const Vector3 u = sliding(c, v);
-    const double y = u.norm();
-    // f1(y) / y, finite as y -> 0 (2 / eps)
-    const double per_length = y >= m_eps ? 1.0 / y : (2.0 - y / m_eps) / m_eps;
-    f.col(c.particle) -= (c.bound * per_length) * u;
-  }
+  for (const FrictionContact& c : m_contacts) f.col(c.particle) += force(c, v);
+}
+
+double StepFriction::collider_power(const Matrix3X& v) const {
+  double power = 0.0;
+  for (const FrictionContact& c : m_contacts) power += force(c, v).dot(c.collider_velocity);
+  return power;
 }
 
 void StepFriction::add_blocks(const Matrix3X& v, double scale, std::vector<int>& particles,

@@ -58,6 +58,8 @@ struct BarrierContact {
   double distance = 0;                // m, to the surface
   double force = 0;                   // N, along the normal, >= 0: -kappa b'(d)
   double stiffness = 0;               // N/m, kappa b''(d): the normal block of the Hessian
+  Vector3 collider_velocity = Vector3::Zero();  // m/s, the collider's mean over the step (when
+                                                // contacts() is given the step)
 };
 
 /// f0(y) for the smoothing length eps (m): y from eps on, a cubic below it.
@@ -89,9 +91,10 @@ class ColliderBarrier {
   /// or inside a collider. x: 3 by #P positions (m).
   double energy(const Model& m, double t, const Matrix3X& x) const;
 
-  /// The covered particles within a layer at x and t, one entry per particle and collider.
-  void contacts(const Model& m, double t, const Matrix3X& x,
-                std::vector<BarrierContact>& out) const;
+  /// The covered particles within a layer at x and t, one entry per particle and collider;
+  /// with the step h (s) that ends at t, each with its collider's mean velocity over it.
+  void contacts(const Model& m, double t, const Matrix3X& x, std::vector<BarrierContact>& out,
+                double h = 0.0) const;
 
   /// Lifts each covered particle that is on or inside a collider at time t out along the
   /// normal to half the collider's margin (a state that began there, or was set there).
@@ -131,6 +134,8 @@ class StepFriction {
   double energy(const Matrix3X& v) const;
   /// Adds -grad_x of it to f (3 by #P, N).
   void add_forces(const Matrix3X& v, Matrix3X& f) const;
+  /// Sum over contacts of the friction force dotted with its collider's velocity (W).
+  double collider_power(const Matrix3X& v) const;
   /// Appends each contact's 3 by 3 Hessian block times scale (positive semi-definite).
   void add_blocks(const Matrix3X& v, double scale, std::vector<int>& particles,
                   std::vector<Matrix3>& blocks) const;
@@ -138,6 +143,8 @@ class StepFriction {
  private:
   /// The contact's tangential displacement over the step (m).
   Vector3 sliding(const FrictionContact& c, const Matrix3X& v) const;
+  /// The contact's friction force on its particle (N).
+  Vector3 force(const FrictionContact& c, const Matrix3X& v) const;
 
   std::vector<FrictionContact> m_contacts;
   double m_h = 0;    // s

@@ -29,7 +29,7 @@ bool try_collider(const Shape& c, int p, double t_end, double h, const Vector3& 
   // land on the shell from above it; a particle already in it keeps its depth (the contact
   // pass lifts it out without giving it a velocity)
   const double nv = (std::min(c.margin, start_depth) - end.distance) / h;
-  out.push_back({p, end.normal, nv});
+  out.push_back({p, end.normal, nv, (c.displacement(t_end) - c.displacement(t_end - h)) / h});
   return true;
 }
 

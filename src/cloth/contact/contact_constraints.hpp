@@ -24,6 +24,7 @@ struct ContactConstraint {
   int particle = 0;
   Vector3 normal = Vector3::UnitY();  // outward unit normal of the collider at the step's start
   double normal_velocity = 0;         // m/s, the fixed n . v
+  Vector3 collider_velocity = Vector3::Zero();  // m/s, the collider's mean over the step
 };
 
 /// The contacts of a step from (x0, v0) of h seconds that ends at t_end, at most one per

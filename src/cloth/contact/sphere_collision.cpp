@@ -29,7 +29,11 @@ double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Mat
       const Vector3 vold = v.col(p);
       if ((vold - vs).dot(nrm) >= 0) continue;  // not approaching
       v.col(p) += free.col(p).cwiseProduct(contact_velocity(vold, vs, nrm, s).v - vold);
-      if (tally) tally->impulse += mass[p] * (v.col(p) - vold);
+      if (tally) {
+        const Vector3 impulse = mass[p] * (v.col(p) - vold);
+        tally->impulse += impulse;
+        tally->collider_work += impulse.dot(vs);
+      }
       removed += 0.5 * mass[p] * (vold.squaredNorm() - v.col(p).squaredNorm());
     }
   }

@@ -44,6 +44,7 @@ inline ContactVelocity contact_velocity(const Vector3& vold, const Vector3& vs, 
 struct ContactTally {
   int contacts = 0;                      // particle-collider contacts (within the shell)
   Vector3 impulse = Vector3::Zero();     // N s, the colliders' impulse on the cloth
+  double collider_work = 0;              // J, each impulse dotted with its collider's velocity
   std::vector<char>* touched = nullptr;  // when given (#P), set for every particle counted
 
   /// Counts particle p's contact.
@@ -58,7 +59,8 @@ struct ContactTally {
 /// @param v     3 by #P velocities (m/s), normal part replaced on approach
 /// @param mass  #P masses (kg)
 /// @param free  3 by #P, 1 for a free axis, 0 for a held one
-/// @param tally when given, counts the contacts and adds their impulse
+/// @param tally when given, counts the contacts and adds their impulse and the work of the
+///              spheres' motion (impulse . the sphere's velocity at t)
 /// @return kinetic energy removed by the contacts (J; negative when a moving sphere adds some)
 double resolve_sphere_contacts(const std::vector<Sphere>& spheres, double t, Matrix3X& x,
                                Matrix3X& v, const VectorX& mass, const Matrix3X& free,

@@ -71,7 +71,7 @@ double ImplicitEulerNewton::residual(const Model& m, double h, const Matrix3X& v
   m.add_drag(v, m_force);
   for (int r = 0; r < 3; ++r) m_force.row(r) += m.gravity[r] * m.mass.transpose();
   if (m_use_barrier) {
-    m_barrier.contacts(m, m_t_end, m_x, m_barrier_contacts);
+    m_barrier.contacts(m, m_t_end, m_x, m_barrier_contacts, h);
     ColliderBarrier::add_forces(m_barrier_contacts, m_force);
     m_friction.add_forces(v, m_force);
   }
@@ -222,12 +222,16 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
 
 void ImplicitEulerNewton::finish_contacts(Eigen::Index particles) {
   m_contact_work = 0.0;
+  m_collider_work = 0.0;
   m_contact_impulse.setZero();
   m_released.assign(static_cast<size_t>(particles), 0);
   for (size_t k = 0; k < m_contacts.size(); ++k) {
     const ContactConstraint& c = m_contacts[k];
-    // the constraint force J / h over the step's displacement h v: J (n . v)
-    m_contact_work += m_impulse[k] * c.normal_velocity;
+    // the constraint force J / h over the step's displacement h v: J (n . v), of which the
+    // collider's motion does J (n . v_c) and the rest is relative to it
+    const double collider = m_impulse[k] * c.normal.dot(c.collider_velocity);
+    m_collider_work += collider;
+    m_contact_work += m_impulse[k] * c.normal_velocity - collider;
     m_contact_impulse += m_impulse[k] * c.normal;
     // a contact that pulled its particle in lets go next step
     if (m_impulse[k] < 0.0) m_released[c.particle] = 1;
@@ -262,17 +266,22 @@ void ImplicitEulerNewton::add_barrier_blocks(double h) {
 }
 
 void ImplicitEulerNewton::finish_barrier(double h) {
-  // the force at the step's end over the step's displacement h v, as backward Euler applies it
+  // the force at the step's end over the step's displacement h v, as backward Euler applies it;
+  // the colliders' motion does its impulse times their velocity, the rest is relative to them
   m_contact_work = m_lift_work;
   for (const BarrierContact& b : m_barrier_contacts) {
     const Vector3 impulse = (h * b.force) * b.normal;
-    m_contact_work += impulse.dot(m_v.col(b.particle));
+    const double collider = impulse.dot(b.collider_velocity);
+    m_collider_work += collider;
+    m_contact_work += impulse.dot(m_v.col(b.particle)) - collider;
     m_contact_impulse += impulse;
   }
   if (m_friction.empty()) return;
   m_trial.setZero();
   m_friction.add_forces(m_v, m_trial);
-  m_contact_work += h * m_trial.cwiseProduct(m_v).sum();
+  const double collider = h * m_friction.collider_power(m_v);
+  m_collider_work += collider;
+  m_contact_work += h * m_trial.cwiseProduct(m_v).sum() - collider;
   m_contact_impulse += h * m_trial.rowwise().sum();
 }
 

@@ -49,8 +49,13 @@ class ImplicitEulerNewton {
   void step(const Model& m, const SolverOptions& o, double t_end, double h, Matrix3X& x,
             Matrix3X& v, Counters& counters);
 
-  /// Work of the last step's contact constraints (J, negative when they took energy out).
+  /// Work of the last step's contact constraints relative to their colliders (J, negative when
+  /// they took energy out): their whole work less collider_work.
   double contact_work() const { return m_contact_work; }
+  /// Work of the last step's moving colliders (J): each contact's impulse (the barrier's and
+  /// friction's force at the step's end times h) dotted with its collider's mean velocity over
+  /// the step; exactly 0 for static colliders.
+  double collider_work() const { return m_collider_work; }
   /// Impulse of the last step's contact constraints on the cloth (N s).
   const Vector3& contact_impulse() const { return m_contact_impulse; }
   /// The last step's contact constraints.
@@ -114,7 +119,8 @@ class ImplicitEulerNewton {
   std::vector<double> m_impulse;  // per contact, along its normal (N s)
   std::vector<char> m_released;   // per particle: its last contact pulled it in
   Vector3 m_contact_impulse = Vector3::Zero();
-  double m_contact_work = 0;
+  double m_contact_work = 0;   // J, relative to the colliders
+  double m_collider_work = 0;  // J, the colliders' motion
   double m_phi = 0, m_residual = 0;
   bool m_direct = false;  // ldlt: A assembled whole
 };

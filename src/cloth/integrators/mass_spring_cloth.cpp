@@ -255,7 +255,9 @@ void MassSpringCloth::resolve_contacts(double h) {
   }
   // the springs only when a particle moved: a cloth at rest beside the sphere pays nothing
   if (moved) work += elastic_energy(m_model.springs, m_x) - elastic_energy(m_model.springs, m_x1);
-  m_contact_work += work;
+  // the moving colliders' share of it is theirs; contact_work keeps the rest
+  m_collider_work += tally.collider_work;
+  m_contact_work += work - tally.collider_work;
 }
 
 void MassSpringCloth::resolve_self_contact(double h) {
@@ -300,6 +302,7 @@ void MassSpringCloth::step_implicit_euler(double h) {
   if (m_newton) {
     m_newton->step(m_model, m_options, m_t + h, h, m_x, m_v, m_counters);
     m_contact_work += m_newton->contact_work();
+    m_collider_work += m_newton->collider_work();
     m_contact_impulse += m_newton->contact_impulse();
     return;
   }

@@ -35,8 +35,11 @@ class MassSpringCloth final : public Simulator {
   const Matrix3X& velocities() const override { return m_v; }
   double time() const override { return m_t; }
   double dissipated() const override { return m_dissipated; }
-  /// Work of the contact projection and velocity response, booked exactly every step.
+  /// Work of the contact projection and velocity response relative to the colliders, booked
+  /// exactly every step: the pass's whole energy change less collider_work.
   double contact_work() const override { return m_contact_work; }
+  /// Work of the moving colliders: each contact's impulse dotted with its collider's velocity.
+  double collider_work() const override { return m_collider_work; }
   bool handles_act_by_force() const override { return true; }
   Counters counters() const override { return m_counters; }
   int contacts() const override { return m_contacts; }
@@ -85,7 +88,7 @@ class MassSpringCloth final : public Simulator {
   /// contact pass after it did not count (m_touched).
   int held_in_solve_only() const;
   /// Resolves collider contacts and then self-contact after a step and books their work in
-  /// m_contact_work.
+  /// m_contact_work and m_collider_work.
   void resolve_contacts(double h);
   /// The self-contact pass over the step from m_x_start, with held, handled and resting
   /// particles (touched by the collider pass at this step's end and the last) infinitely heavy.
@@ -99,9 +102,10 @@ class MassSpringCloth final : public Simulator {
   SolverOptions m_options;
   Matrix3X m_x, m_v;
   double m_t = 0;
-  double m_dissipated = 0;    // J, dampers and drag
-  double m_contact_work = 0;  // J, net work of the contact response
-  int m_contacts = 0;         // particle-collider contacts of the last contact pass
+  double m_dissipated = 0;     // J, dampers and drag
+  double m_contact_work = 0;   // J, net work of the contact response relative to the colliders
+  double m_collider_work = 0;  // J, work of the moving colliders' motion
+  int m_contacts = 0;          // particle-collider contacts of the last contact pass
   Vector3 m_contact_impulse = Vector3::Zero();  // N s, the colliders' impulse so far
   Counters m_counters;
 

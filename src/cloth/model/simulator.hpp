@@ -57,8 +57,14 @@ class Simulator {
   /// Net work of the contact response since the start (J): the energy it added (lifting
   /// particles out of an obstacle against gravity and springs) minus the energy it removed
   /// (the normal velocity it cancels, friction); 0 for an engine that cannot separate it. The
-  /// handles' work is not in it: the harness books that for every engine alike.
+  /// handles' work is not in it: the harness books that for every engine alike. Nor is the
+  /// moving colliders' share (collider_work) in an engine that books that apart.
   virtual double contact_work() const { return 0.0; }
+  /// Work of the moving colliders' motion since the start (J): each contact's impulse (or force
+  /// times the step) dotted with its collider's velocity, so that contact_work keeps the work
+  /// relative to the colliders; exactly 0 for static colliders, and 0 for an engine that cannot
+  /// split its contact work (all of it stays in contact_work).
+  virtual double collider_work() const { return 0.0; }
   /// True when the handles move their particles by force: the holder supplies exactly what
   /// cancels every other force on them (the custom engine), so the scene's forces give the
   /// holder's work. False for an engine that projects them onto their path.
@@ -83,8 +89,8 @@ class Simulator {
   /// (x, v, t, dt) alone, whatever the engine did before (caches between steps, such as warm
   /// starts, contact or resting flags, are re-derived from the state or cleared, and what
   /// cannot be is documented by the engine). Held axes and handles take x as given. The
-  /// books (dissipated, contact_work, unbooked, counters) are kept. Throws std::logic_error
-  /// when !can_set_state().
+  /// books (dissipated, contact_work, collider_work, unbooked, counters) are kept. Throws
+  /// std::logic_error when !can_set_state().
   virtual void set_state(const Matrix3X& x, const Matrix3X& v, double t);
 };
 

@@ -103,7 +103,10 @@ std::vector<OutputFile> run_files() {
         {"gravity_potential", "J", "gravitational potential energy"},
         {"elastic_potential", "J", "energy stored in the springs"},
         {"dissipated", "J", "energy taken out by the spring dampers and air drag so far"},
-        {"contact_work", "J", "net work of the contact response so far"},
+        {"contact_work", "J", "net work of the contact response so far, relative to the colliders"},
+        {"collider_work", "J",
+         "work of the moving colliders' motion so far: each contact impulse dotted with its "
+         "collider's velocity (0 for static colliders, and in an engine that cannot split it)"},
         {"unbooked", "J",
          "energy balance no book explains (Bullet steps with a contact; steps whose handles "
          "moved by projection, less the handles' work)"},
@@ -112,7 +115,8 @@ std::vector<OutputFile> run_files() {
          "along their path (the harness's, the same for every engine)"},
         {"total_energy", "J", "kinetic plus both potentials"},
         {"energy_error", "J",
-         "total_energy + dissipated - contact_work - handle_work - unbooked - the initial total"},
+         "total_energy + dissipated - contact_work - collider_work - handle_work - unbooked - "
+         "the initial total"},
         {"max_strain", "1",
          "largest |l / l0 - 1| over every spring, bend springs included (a fold reads near 1)"},
         {"mean_strain", "1", "mean |l / l0 - 1| over the springs"},

@@ -79,6 +79,7 @@ FrameMetrics frame_metrics(const cloth::Model& model, double t, const Matrix3X& 
   m.elastic_potential = e.elastic_potential;
   m.dissipated = books.dissipated;
   m.contact_work = books.contact_work;
+  m.collider_work = books.collider_work;
   m.unbooked = books.unbooked;
   m.handle_work = books.handle_work;
   m.total_energy = e.total();

@@ -13,19 +13,23 @@
 namespace clothbench {
 
 /// What an engine has booked of its energy since the start (J): the terms of the balance
-///   energy_error = total + dissipated - contact_work - handle_work - unbooked - initial total.
+///   energy_error = total + dissipated - contact_work - collider_work - handle_work - unbooked
+///                  - initial total.
 struct EnergyBooks {
-  double dissipated = 0;    // J, taken out by the spring dampers and air drag
-  double contact_work = 0;  // J, net work of the contact response (custom engine)
-  double unbooked = 0;      // J, balance of a Bullet engine's steps with a contact, and of
-                            // an engine's steps whose handles moved by projection
-  double handle_work = 0;   // J, the handles' holders' work, booked by the harness
+  double dissipated = 0;     // J, taken out by the spring dampers and air drag
+  double contact_work = 0;   // J, net work of the contact response relative to the colliders
+                             // (custom engine)
+  double unbooked = 0;       // J, balance of a Bullet engine's steps with a contact, and of
+                             // an engine's steps whose handles moved by projection
+  double handle_work = 0;    // J, the handles' holders' work, booked by the harness
+  double collider_work = 0;  // J, the moving colliders' work (custom engine)
 };
 
 /// The energy error (J) of a state whose total energy is total, with books kept since a start
 /// whose total energy was e0: what the engine's scheme created (> 0) or lost (< 0).
 inline double energy_error(double total, const EnergyBooks& books, double e0) {
-  return total + books.dissipated - books.contact_work - books.handle_work - books.unbooked - e0;
+  return total + books.dissipated - books.contact_work - books.collider_work - books.handle_work -
+         books.unbooked - e0;
 }
 
 /// One row of frames.csv (without the engine name).
@@ -35,12 +39,14 @@ struct FrameMetrics {
   double gravity_potential = 0;    // J
   double elastic_potential = 0;    // J
   double dissipated = 0;           // J, taken out by dampers and drag so far
-  double contact_work = 0;         // J, net work of the contact response so far
+  double contact_work = 0;         // J, net work of the contact response so far, relative to
+                                   // the colliders
+  double collider_work = 0;        // J, work of the moving colliders' motion so far
   double unbooked = 0;             // J, balance no book explains (Bullet contact steps)
   double handle_work = 0;          // J, work of the handles' holders so far
   double total_energy = 0;         // J, kinetic + both potentials
-  double energy_error = 0;         // J, total + dissipated - contact_work - handle_work
-                                   // - unbooked - initial
+  double energy_error = 0;         // J, total + dissipated - contact_work - collider_work
+                                   // - handle_work - unbooked - initial
   double max_strain = 0;           // largest |l / l0 - 1|
   double mean_strain = 0;          // mean |l / l0 - 1|
   double max_stretch = 0;          // largest l / l0 - 1 > 0 of a structural, shear or edge spring

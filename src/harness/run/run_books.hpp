@@ -1,8 +1,8 @@
 #pragma once
 /// @file run_books.hpp
 /// The energy books of one engine's run: what the engine books itself (dissipated,
-/// contact_work, unbooked) and what the harness books for every engine alike (the handles'
-/// work, handle_work.hpp).
+/// contact_work, collider_work, unbooked) and what the harness books for every engine alike (the
+/// handles' work, handle_work.hpp).
 
 #include "cloth/model/model.hpp"
 #include "cloth/model/simulator.hpp"
@@ -33,10 +33,15 @@ class RunBooks {
 
  private:
   EnergyBooks engine_books() const {
-    return EnergyBooks{m_sim.dissipated(), m_sim.contact_work(), m_sim.unbooked()};
+    EnergyBooks b;
+    b.dissipated = m_sim.dissipated();
+    b.contact_work = m_sim.contact_work();
+    b.collider_work = m_sim.collider_work();
+    b.unbooked = m_sim.unbooked();
+    return b;
   }
   /// The engine's balance with its own books alone (J): total + dissipated - contact_work -
-  /// unbooked.
+  /// collider_work - unbooked.
   double balance(const EnergyBooks& b) const;
 
   const cloth::Model& m_model;

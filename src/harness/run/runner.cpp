@@ -460,7 +460,8 @@ void write_frames(const RunResult& result, CsvWriter& frames) {
   for (const EngineRun& run : result.runs)
     for (const FrameMetrics& m : run.frames) {
       frames.add(run.spec.name).add(m.t).add(m.kinetic).add(m.gravity_potential);
-      frames.add(m.elastic_potential).add(m.dissipated).add(m.contact_work).add(m.unbooked);
+      frames.add(m.elastic_potential).add(m.dissipated).add(m.contact_work).add(m.collider_work);
+      frames.add(m.unbooked);
       frames.add(m.handle_work);
       frames.add(m.total_energy).add(m.energy_error);
       frames.add(m.max_strain).add(m.mean_strain).add(m.com.x()).add(m.com.y()).add(m.com.z());
