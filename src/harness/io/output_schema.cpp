@@ -60,40 +60,42 @@ std::vector<OutputColumn> map_columns() {
   return columns;
 }
 
+// summary.csv's columns: one engine's run
+std::vector<OutputColumn> summary_columns() {
+  return {kEngine,
+          {"kind", "text", "the engine kind (custom, bullet-deformable, bullet-softbody)"},
+          kIntegrator,
+          {"dt", "s", "time step"},
+          {"steps", "count", "steps taken"},
+          {"wall_s", "s", "wall-clock time spent in the engine's steps"},
+          {"us_per_step", "1e-6 s", "wall-clock microseconds per step"},
+          {"force_evals", "count", "force evaluations over the run"},
+          {"stable", "0/1", "1 when the run ended without a blow-up or a timeout"},
+          {"blowup_t", "s", "simulated time of the first unstable step; empty when stable"},
+          {"max_energy_error", "J", "largest |energy_error| while stable"},
+          {"final_rms_vs_reference", "m",
+           "RMS particle distance to the reference engine at the last common frame"},
+          {"max_rms_vs_reference", "m", "largest RMS particle distance to the reference engine"},
+          {"drape_coefficient", "1",
+           "Cusick drape coefficient (shadow - support) / (cloth - support) at the end; empty "
+           "without a support"},
+          {"final_kinetic", "J", "kinetic energy of the last logged state"},
+          {"static_residual", "1",
+           "largest net force on a free particle over its weight, last logged state; 0 at rest"},
+          {"newton_iterations", "count",
+           "Newton iterations over the run (implicit solvers; 0 for the others and non-custom "
+           "engines)"},
+          {"cg_iterations", "count", "conjugate-gradient iterations over the run"},
+          {"cg_unconverged", "count", "linear solves that stopped at their iteration limit"},
+          {"newton_unconverged", "count",
+           "implicit Euler steps (line-search Newton) whose Newton iteration ended above "
+           "newton_tolerance: at newton_iterations, or with no descent left"}};
+}
+
 // the run's per-engine tables
 std::vector<OutputFile> run_files() {
   return {
-      {"summary.csv",
-       "clothbench run, in the run folder",
-       "one engine",
-       {kEngine,
-        {"kind", "text", "the engine kind (custom, bullet-deformable, bullet-softbody)"},
-        kIntegrator,
-        {"dt", "s", "time step"},
-        {"steps", "count", "steps taken"},
-        {"wall_s", "s", "wall-clock time spent in the engine's steps"},
-        {"us_per_step", "1e-6 s", "wall-clock microseconds per step"},
-        {"force_evals", "count", "force evaluations over the run"},
-        {"stable", "0/1", "1 when the run ended without a blow-up or a timeout"},
-        {"blowup_t", "s", "simulated time of the first unstable step; empty when stable"},
-        {"max_energy_error", "J", "largest |energy_error| while stable"},
-        {"final_rms_vs_reference", "m",
-         "RMS particle distance to the reference engine at the last common frame"},
-        {"max_rms_vs_reference", "m", "largest RMS particle distance to the reference engine"},
-        {"drape_coefficient", "1",
-         "Cusick drape coefficient (shadow - support) / (cloth - support) at the end; empty "
-         "without a support"},
-        {"final_kinetic", "J", "kinetic energy of the last logged state"},
-        {"static_residual", "1",
-         "largest net force on a free particle over its weight, last logged state; 0 at rest"},
-        {"newton_iterations", "count",
-         "Newton iterations over the run (implicit solvers; 0 for the others and non-custom "
-         "engines)"},
-        {"cg_iterations", "count", "conjugate-gradient iterations over the run"},
-        {"cg_unconverged", "count", "linear solves that stopped at their iteration limit"},
-        {"newton_unconverged", "count",
-         "implicit Euler steps (line-search Newton) whose Newton iteration ended above "
-         "newton_tolerance: at newton_iterations, or with no descent left"}}},
+      {"summary.csv", "clothbench run, in the run folder", "one engine", summary_columns()},
       {"frames.csv",
        "clothbench run, in the run folder",
        "one engine at one logged frame",
