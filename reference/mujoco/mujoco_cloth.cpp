@@ -79,7 +79,8 @@ class MujocoCloth : public cloth::Simulator {
  private:
   /// Puts the mocap bodies (handle particles, moving colliders) where they are at time t (s).
   void place_mocap(double t);
-  /// Sets qfrc_applied to the air drag -c (v - w) of the current velocities.
+  /// Sets qfrc_applied to the air drag -c (v - w) of the current velocities, or to its wind part
+  /// c w alone where the joints damp (air_drag_in_joints).
   void apply_air_drag();
   /// Copies MuJoCo's state at time t into m_x and m_v.
   void read_state(double t);
@@ -140,10 +141,12 @@ void MujocoCloth::place_mocap(double t) {
 
 void MujocoCloth::apply_air_drag() {
   const double c = m_model.air_drag;
+  // with the -c v part in the joints' damping only the wind's constant c w is applied here
+  const double own = air_drag_in_joints(m_options) ? 0.0 : 1.0;
   for (int p = 0; p < m_model.particle_count(); ++p)
     for (int a = 0; a < 3; ++a) {
       const int i = m_layout.dof[size_t(p)][size_t(a)];
-      if (i >= 0) m_d->qfrc_applied[i] = -c * (m_d->qvel[i] - m_model.wind[a]);
+      if (i >= 0) m_d->qfrc_applied[i] = -c * (own * m_d->qvel[i] - m_model.wind[a]);
     }
 }
 

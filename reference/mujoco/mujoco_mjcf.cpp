@@ -86,8 +86,10 @@ void write_colliders(std::ostringstream& s, const cloth::Model& model, const Muj
       });
 }
 
-/// The particles' bodies, and the handles' mocap bodies after the moving colliders'.
-void write_particles(std::ostringstream& s, const cloth::Model& model, MjcfLayout& layout) {
+/// The particles' bodies, and the handles' mocap bodies after the moving colliders'; each slide
+/// joint damped by joint_damping (N s/m; none when 0).
+void write_particles(std::ostringstream& s, const cloth::Model& model, double joint_damping,
+                     MjcfLayout& layout) {
   int qpos = 0;
   int mocap = static_cast<int>(layout.moving.size());
   static const char* const axes[] = {"1 0 0", "0 1 0", "0 0 1"};
@@ -104,7 +106,9 @@ void write_particles(std::ostringstream& s, const cloth::Model& model, MjcfLayou
     for (int a = 0; a < 3; ++a) {
       if (model.free(a, p) == 0.0) continue;
       layout.dof[size_t(p)][size_t(a)] = qpos++;
-      s << "<joint type=\"slide\" axis=\"" << axes[a] << "\"/>";
+      s << "<joint type=\"slide\" axis=\"" << axes[a] << "\"";
+      if (joint_damping > 0.0) s << " damping=\"" << num(joint_damping) << "\"";
+      s << "/>";
       moves = true;
     }
     // a pinned particle is part of the world: no mass, no geom
@@ -139,6 +143,10 @@ MjcfLayout mjcf_layout(const cloth::Model& model) {
   return layout;
 }
 
+bool air_drag_in_joints(const MujocoOptions& options) {
+  return options.integrator == MujocoIntegrator::rk4;
+}
+
 std::string mujoco_mjcf(const cloth::Model& model, const MujocoOptions& options, double dt,
                         const MujocoSize& size, MjcfLayout& layout) {
   // the particle spheres: half the smallest margin, the colliders' geom margins the rest
@@ -152,7 +160,7 @@ std::string mujoco_mjcf(const cloth::Model& model, const MujocoOptions& options,
   write_header(s, model, options, dt, size);
   s << "<worldbody>\n";
   write_colliders(s, model, options, layout);
-  write_particles(s, model, layout);
+  write_particles(s, model, air_drag_in_joints(options) ? model.air_drag : 0.0, layout);
   s << "</worldbody>\n";
   write_tendons(s, model);
   s << "</mujoco>\n";

@@ -36,6 +36,13 @@ struct MjcfLayout {
 /// The layout of model's particles and colliders.
 MjcfLayout mjcf_layout(const cloth::Model& model);
 
+/// True when the air drag's -c v part is the slide joints' damping, which MuJoCo evaluates at
+/// every stage of its step (rk4: a force held over the step's four stages would make the step
+/// first order), rather than applied by the adapter once a step (euler, implicit: so that
+/// Euler's drag stays explicit, as symplectic Euler's is; MuJoCo's Euler and implicit
+/// integrators would treat joint damping implicitly).
+bool air_drag_in_joints(const MujocoOptions& options);
+
 /// The MJCF text of model with step dt (s), the integrator and contact options, and the
 /// memory sizes of size (nconmax, njmax, nstack); layout from mjcf_layout(model), whose
 /// particle_radius it sets: half the smallest contact margin.
