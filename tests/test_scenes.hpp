@@ -2,6 +2,8 @@
 /// @file test_scenes.hpp
 /// Small scenes the physics tests share.
 
+#include "cloth/forces/energies.hpp"
+#include "cloth/integrators/mass_spring_cloth.hpp"
 #include "cloth/model/model.hpp"
 #include "cloth/model/scene.hpp"
 
@@ -61,6 +63,27 @@ inline cloth::Scene chain(int n, double m, double k, double l, double damping, d
   s.held.assign(static_cast<size_t>(n + 1), 0);
   s.held[static_cast<size_t>(n)] = cloth::kHoldAll;  // the top particle, j = nv - 1
   return s;
+}
+
+/// A free 8 x 8 cloth of 6.4 kg, 1 m square, springs 200 N/m, lying flat at rest on the contact
+/// shell (y = margin) of a floor through the origin, under gravity g: every particle sees the
+/// same thing, so no spring ever stretches. The floor moves at velocity u with friction mu.
+inline cloth::Scene cloth_on_floor(double g, const cloth::Vector3& u = cloth::Vector3::Zero(),
+                                   double mu = 0.0) {
+  cloth::Scene s = small_cloth(8, 200.0, 0.5);
+  s.held.clear();
+  cloth::HalfSpace floor;
+  floor.velocity = u;
+  floor.friction = mu;
+  s.cloth.center = {0.0, floor.margin, 0.0};
+  s.shapes.planes.push_back(floor);
+  s.gravity = {0.0, -g, 0.0};
+  return s;
+}
+
+/// Kinetic + gravity + elastic energy of the cloth's state (J).
+inline double mechanical_energy(const cloth::MassSpringCloth& c) {
+  return cloth::compute_energies(c.model(), c.positions(), c.velocities()).total();
 }
 
 }  // namespace clothbench::test

@@ -142,11 +142,13 @@ void MujocoCloth::place_mocap(double t) {
 void MujocoCloth::apply_air_drag() {
   const double c = m_model.air_drag;
   // with the -c v part in the joints' damping only the wind's constant c w is applied here
-  const double own = air_drag_in_joints(m_options) ? 0.0 : 1.0;
+  const bool drag_in_joints = air_drag_in_joints(m_options);
   for (int p = 0; p < m_model.particle_count(); ++p)
     for (int a = 0; a < 3; ++a) {
       const int i = m_layout.dof[size_t(p)][size_t(a)];
-      if (i >= 0) m_d->qfrc_applied[i] = -c * (own * m_d->qvel[i] - m_model.wind[a]);
+      if (i < 0) continue;
+      m_d->qfrc_applied[i] =
+          drag_in_joints ? c * m_model.wind[a] : -c * (m_d->qvel[i] - m_model.wind[a]);
     }
 }
 

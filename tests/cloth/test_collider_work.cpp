@@ -4,7 +4,6 @@
 #include <string>
 
 #include "cloth/contact/contact_barrier.hpp"
-#include "cloth/forces/energies.hpp"
 #include "cloth/integrators/mass_spring_cloth.hpp"
 #include "test_scenes.hpp"
 #include "tolerances.hpp"
@@ -55,25 +54,12 @@ double step_of(Path p) {
   return p == Path::after_step ? kSymplecticH : kImplicitH;
 }
 
-/// A free 8 x 8 cloth of 6.4 kg, 1 m square, springs 200 N/m, lying flat at rest on the contact
-/// shell (y = margin) of a floor through the origin that moves at velocity u; the floor's
-/// friction is mu. Every particle sees the same thing, so no spring ever stretches.
+/// The 8 x 8 cloth at rest on a floor moving at velocity u with friction mu.
 Scene cloth_on_moving_floor(const Vector3& u, double mu) {
-  Scene s = clothbench::test::small_cloth(8, 200.0, 0.5);
-  s.held.clear();
-  HalfSpace floor;
-  floor.velocity = u;
-  floor.friction = mu;
-  s.cloth.center = {0.0, floor.margin, 0.0};
-  s.shapes.planes.push_back(floor);
-  s.gravity = {0.0, -kG, 0.0};
-  return s;
+  return clothbench::test::cloth_on_floor(kG, u, mu);
 }
 
-/// Kinetic + gravity + elastic energy of the state (J).
-double mechanical_energy(const MassSpringCloth& c) {
-  return compute_energies(c.model(), c.positions(), c.velocities()).total();
-}
+using clothbench::test::mechanical_energy;
 
 /// The cloth's momentum (kg m/s).
 Vector3 momentum(const MassSpringCloth& c) {
@@ -85,6 +71,24 @@ Vector3 momentum(const MassSpringCloth& c) {
 /// forces do not explain (0 without a Newton solve).
 double residual_momentum(const MassSpringCloth& c) {
   return c.newton() ? c.model().mass.sum() * c.newton()->last_residual() : 0.0;
+}
+
+/// What a run of steps showed: the largest contact_work of a step (J) and the momentum the
+/// solves' residuals left unexplained, summed over the steps (kg m/s, residual_momentum).
+struct RunBooks {
+  double largest_contact_work = -1.0;
+  double unexplained = 0.0;
+};
+
+/// Takes steps of h seconds and keeps their books.
+RunBooks run_steps(MassSpringCloth& c, double h, int steps) {
+  RunBooks b;
+  for (int step = 0; step < steps; ++step) {
+    c.step(h);
+    b.largest_contact_work = std::max(b.largest_contact_work, c.contact_work());
+    b.unexplained += residual_momentum(c);
+  }
+  return b;
 }
 
 }  // namespace collider_work_test
@@ -193,12 +197,7 @@ TEST_CASE("a rising floor under a resting cloth, implicit Euler: the floor suppl
   const double mass_total = c.model().mass.sum();
   const double e0 = cwt::mechanical_energy(c);
   const int steps = 100;
-  double largest_contact_work = -1.0, unexplained = 0.0;
-  for (int step = 0; step < steps; ++step) {
-    c.step(h);
-    largest_contact_work = std::max(largest_contact_work, c.contact_work());
-    unexplained += cwt::residual_momentum(c);
-  }
+  const auto [largest_contact_work, unexplained] = cwt::run_steps(c, h, steps);
   const double t = steps * h;
   CAPTURE(c.collider_work(), c.contact_work(), largest_contact_work, unexplained);
   // the floor's impulse is the momentum change less gravity's, and its work that impulse
@@ -225,12 +224,7 @@ TEST_CASE("a floor sliding under a resting cloth, barrier: friction drags it alo
   MassSpringCloth c(cwt::cloth_on_moving_floor({u, 0.0, 0.0}, 0.5),
                     cwt::options(cwt::Path::barrier));
   const int steps = 100;
-  double largest_contact_work = -1.0, unexplained = 0.0;
-  for (int step = 0; step < steps; ++step) {
-    c.step(h);
-    largest_contact_work = std::max(largest_contact_work, c.contact_work());
-    unexplained += cwt::residual_momentum(c);
-  }
+  const auto [largest_contact_work, unexplained] = cwt::run_steps(c, h, steps);
   CAPTURE(c.collider_work(), c.contact_work(), largest_contact_work, unexplained);
   const double mass_total = c.model().mass.sum();
   // it moves with the floor (the lagged friction holds it as a stiff spring below a sliding
@@ -261,12 +255,8 @@ TEST_CASE("a sphere rising into a cloth at rest, without gravity: its motion doe
   MassSpringCloth c(s, cwt::options(path));
   const double h = cwt::step_of(path);
   const double e0 = cwt::mechanical_energy(c);
-  double largest_contact_work = -1.0, unexplained = 0.0;
-  for (int step = 0; step < static_cast<int>(std::lround(1.2 / h)); ++step) {
-    c.step(h);
-    largest_contact_work = std::max(largest_contact_work, c.contact_work());
-    unexplained += cwt::residual_momentum(c);
-  }
+  const auto [largest_contact_work, unexplained] =
+      cwt::run_steps(c, h, static_cast<int>(std::lround(1.2 / h)));
   const double gained = cwt::mechanical_energy(c) + c.dissipated() - e0;
   CAPTURE(c.collider_work(), c.contact_work(), largest_contact_work, gained, unexplained);
   // without gravity the sphere's impulse is the cloth's momentum, and its work that times V

@@ -3,7 +3,6 @@
 
 #include "cloth/contact/colliders.hpp"
 #include "cloth/contact/contact_barrier.hpp"
-#include "cloth/forces/energies.hpp"
 #include "cloth/integrators/mass_spring_cloth.hpp"
 #include "harness/scenario/engine_refusal.hpp"
 #include "test_scenes.hpp"
@@ -40,10 +39,7 @@ SolverOptions barrier_options() {
   return o;
 }
 
-/// Kinetic + gravity + elastic energy of the state (J).
-double mechanical_energy(const MassSpringCloth& c) {
-  return compute_energies(c.model(), c.positions(), c.velocities()).total();
-}
+using clothbench::test::mechanical_energy;
 
 }  // namespace
 

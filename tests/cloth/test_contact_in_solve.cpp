@@ -1,7 +1,6 @@
 #include <catch2/catch.hpp>
 #include <cmath>
 
-#include "cloth/forces/energies.hpp"
 #include "cloth/integrators/mass_spring_cloth.hpp"
 #include "test_scenes.hpp"
 
@@ -12,22 +11,12 @@ namespace {
 constexpr double kFrame = 1.0 / 30.0;  // s, the large step
 constexpr double kG = 9.8;             // m/s^2
 
-/// A free 8 x 8 cloth, 1 m square, lying at rest on a frictionless floor at y = 0: on the
-/// floor's contact shell (y = margin), no spring stretched.
+/// The 8 x 8 cloth at rest on a static frictionless floor.
 Scene cloth_on_floor() {
-  Scene s = clothbench::test::small_cloth(8, 200.0, 0.5);
-  s.held.clear();
-  HalfSpace floor;
-  s.cloth.center = {0.0, floor.margin, 0.0};
-  s.shapes.planes.push_back(floor);
-  s.gravity = {0.0, -kG, 0.0};
-  return s;
+  return clothbench::test::cloth_on_floor(kG);
 }
 
-/// Kinetic + gravity + elastic energy of the state (J).
-double mechanical_energy(const MassSpringCloth& c) {
-  return compute_energies(c.model(), c.positions(), c.velocities()).total();
-}
+using clothbench::test::mechanical_energy;
 
 }  // namespace
 

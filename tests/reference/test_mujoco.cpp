@@ -42,6 +42,37 @@ StretchedSpring stretched_spring(double m, double k, double c, MujocoIntegrator 
   return r;
 }
 
+/// A 5 x 5 cloth with damped springs, air drag and wind: every force MuJoCo's explicit
+/// integrators apply.
+Scene windy_cloth() {
+  Scene s = clothbench::test::small_cloth(5, 200.0, 0.5);
+  s.cloth.air_drag = 0.05;
+  s.wind = {1.0, 0.0, 0.5};
+  return s;
+}
+
+/// Two engines run side by side: both at the end, and their largest position difference.
+struct SideBySide {
+  std::unique_ptr<Simulator> mj;
+  std::unique_ptr<MassSpringCloth> custom;
+  double worst = 0.0;  // m
+};
+
+/// MuJoCo's integrator mj and the custom engine's custom_integrator side by side on scene s for
+/// 1 s in steps of h.
+SideBySide side_by_side(const Scene& s, MujocoIntegrator mj, Integrator custom_integrator,
+                        double h) {
+  SolverOptions o;
+  o.integrator = custom_integrator;
+  SideBySide r{mujoco(s, mj, h), std::make_unique<MassSpringCloth>(s, o), 0.0};
+  for (int i = 0; i < static_cast<int>(std::lround(1.0 / h)); ++i) {
+    r.mj->step(h);
+    r.custom->step(h);
+    r.worst = std::max(r.worst, (r.mj->positions() - r.custom->positions()).cwiseAbs().maxCoeff());
+  }
+  return r;
+}
+
 }  // namespace
 
 TEST_CASE("mujoco: free fall follows y0 - g t^2 / 2 with each scheme's known offset", "[mujoco]") {
@@ -130,24 +161,11 @@ TEST_CASE("mujoco: a chain oscillates at its analytic lowest eigenfrequency", "[
 
 TEST_CASE("mujoco: euler matches the custom symplectic euler on a small cloth without contact",
           "[mujoco]") {
-  // damped springs, air drag and wind: every force MuJoCo's Euler treats explicitly
-  Scene s = clothbench::test::small_cloth(5, 200.0, 0.5);
-  s.cloth.air_drag = 0.05;
-  s.wind = {1.0, 0.0, 0.5};
-  const double h = 1e-3;
-  auto mj = mujoco(s, MujocoIntegrator::euler, h);
-  SolverOptions o;
-  o.integrator = Integrator::symplectic_euler;
-  MassSpringCloth custom(s, o);
-  double worst = 0.0;
-  for (int i = 0; i < 1000; ++i) {
-    mj->step(h);
-    custom.step(h);
-    worst = std::max(worst, (mj->positions() - custom.positions()).cwiseAbs().maxCoeff());
-  }
-  INFO("largest position difference over 1 s: " << worst << " m");
-  CHECK(worst <= tol::kMujocoEulerMatch);
-  CHECK((mj->velocities() - custom.velocities()).cwiseAbs().maxCoeff() <=
+  const SideBySide r =
+      side_by_side(windy_cloth(), MujocoIntegrator::euler, Integrator::symplectic_euler, 1e-3);
+  INFO("largest position difference over 1 s: " << r.worst << " m");
+  CHECK(r.worst <= tol::kMujocoEulerMatch);
+  CHECK((r.mj->velocities() - r.custom->velocities()).cwiseAbs().maxCoeff() <=
         tol::kMujocoEulerMatchVelocity);
 }
 
@@ -300,20 +318,7 @@ TEST_CASE("mujoco: implicit keeps only each particle's own block of the damping 
 TEST_CASE("mujoco: rk4 with air drag and wind follows the custom rk4 step for step", "[mujoco]") {
   // the drag -c (v - w) depends on the velocity at each of rk4's four stages: held at the
   // step's start (as a force applied once a step) it would leave the step first order
-  Scene s = clothbench::test::small_cloth(5, 200.0, 0.5);
-  s.cloth.air_drag = 0.05;
-  s.wind = {1.0, 0.0, 0.5};
-  const double h = 4e-3;
-  auto mj = mujoco(s, MujocoIntegrator::rk4, h);
-  SolverOptions o;
-  o.integrator = Integrator::rk4;
-  MassSpringCloth custom(s, o);
-  double worst = 0.0;
-  for (int i = 0; i < 250; ++i) {
-    mj->step(h);
-    custom.step(h);
-    worst = std::max(worst, (mj->positions() - custom.positions()).cwiseAbs().maxCoeff());
-  }
-  INFO("largest position difference over 1 s: " << worst << " m");
-  CHECK(worst <= tol::kMujocoEulerMatch);
+  const SideBySide r = side_by_side(windy_cloth(), MujocoIntegrator::rk4, Integrator::rk4, 4e-3);
+  INFO("largest position difference over 1 s: " << r.worst << " m");
+  CHECK(r.worst <= tol::kMujocoEulerMatch);
 }
