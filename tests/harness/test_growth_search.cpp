@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cloth/analysis/linear_stability.hpp"
+#include "cloth/forces/energies.hpp"
 #include "cloth/model/model.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario_loader.hpp"
@@ -193,6 +194,54 @@ TEST_CASE("a first step of 5 % from the prediction brackets the same limit",
   if (std::abs(near.stable_dt / start - 1) < 0.05) {
     CHECK(near.judged < doubling.judged);
   }
+}
+
+TEST_CASE("the growth states come from a reference rk4 can take at any engine time step",
+          "[stability][growth]") {
+  // a stiff 8 x 8 cloth whose only engine is implicit Euler at 1/30 s: a quarter of that step
+  // is some 13 times rk4's limit, and a reference taken there blows up in its first steps,
+  // its "fastest" state the blow-up's own
+  const Scenario sc = parse_scenario(R"(
+name = "stiff_swing"
+duration = 1.0
+frame_interval = 0.03333333333333333
+reference = "implicit"
+gravity = [0.0, -9.8, 0.0]
+[cloth]
+particles = [8, 8]
+size = [1.0, 1.0]
+center = [0.0, 0.8, 0.0]
+plane = "xz"
+areal_density = 0.2
+stiffness = { structural = 8000.0, shear = 8000.0, bend = 80.0 }
+damping = 0.01
+[[constraint]]
+select = "edge:u0"
+hold = "xyz"
+[[engine]]
+name = "implicit"
+integrator = "implicit-euler"
+dt = 0.03333333333333333
+)",
+                                     "stiff.toml", {});
+  const cloth::Model model = cloth::build_model(sc.scene);
+  const double rk4_limit =
+      cloth::predicted_stable_dt(cloth::Integrator::rk4, cloth::linear_spectrum(model));
+  REQUIRE(sc.engines[0].dt / 4 > 10 * rk4_limit);
+  CHECK(growth_reference_dt(sc, rk4_limit) <= kReferenceLimitFraction * rk4_limit);
+  std::string warning;
+  const std::vector<GrowthState> states = growth_states(sc, rk4_limit, &warning);
+  CHECK(warning.empty());
+  REQUIRE(states.size() == 2);
+  CHECK(states[1].label == "fastest");
+  // the swing's fastest state has at most the energy its fall released (the springs hold the
+  // cloth to its size, so no particle falls more than the cloth's 1 m width below its start)
+  const cloth::Energies e = cloth::compute_energies(model, states[1].state.x, states[1].state.v);
+  const double released = model.mass.sum() * 9.8 * 1.0;
+  INFO("fastest at t = " << states[1].state.t << " s: kinetic " << e.kinetic << " J");
+  CHECK(states[1].state.x.allFinite());
+  CHECK(e.kinetic <= released);
+  CHECK(e.kinetic > 0.0);
 }
 
 TEST_CASE("a perturbation below round-off or not small is refused", "[stability][growth]") {

@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cloth/analysis/linear_stability.hpp"
 #include "cloth/model/model.hpp"
 #include "harness/engines/engine_factory.hpp"
+#include "harness/io/csv_writer.hpp"
 #include "harness/sweeps/sweep.hpp"
 
 namespace clothbench {
@@ -36,14 +38,22 @@ EngineSpec reference_engine(const Scenario& sc, double dt) {
 
 }  // namespace
 
-double growth_reference_dt(const Scenario& sc) {
+double growth_reference_dt(const Scenario& sc, double rk4_limit) {
   double dt = sc.engines.empty() ? 1e-3 : sc.engines.front().dt;
   for (const EngineSpec& e : sc.engines) dt = std::min(dt, e.dt);
-  return std::max(dt / 4, kGrowthWindow / double(kGrowthReferenceSteps));
+  // an implicit engine's large step says nothing of what rk4 can take
+  dt = std::min(dt / 4, kReferenceLimitFraction * rk4_limit);
+  return std::max(dt, kGrowthWindow / double(kGrowthReferenceSteps));
 }
 
 std::vector<GrowthState> growth_states(const Scenario& sc) {
-  const double dt = growth_reference_dt(sc);
+  return growth_states(
+      sc, cloth::predicted_stable_dt(cloth::Integrator::rk4,
+                                     cloth::linear_spectrum(cloth::build_model(sc.scene))));
+}
+
+std::vector<GrowthState> growth_states(const Scenario& sc, double rk4_limit, std::string* warning) {
+  const double dt = growth_reference_dt(sc, rk4_limit);
   const cloth::Model model = cloth::build_model(sc.scene);
   auto sim = make_engine(reference_engine(sc, dt), sc.scene);
 
@@ -54,7 +64,14 @@ std::vector<GrowthState> growth_states(const Scenario& sc) {
   const long long steps = std::llround(kGrowthWindow / dt);
   for (long long n = 0; n < steps; ++n) {
     sim->step(dt);
-    if (!sim->positions().allFinite() || !sim->velocities().allFinite()) break;
+    if (!sim->positions().allFinite() || !sim->velocities().allFinite()) {
+      // what came before was the blow-up growing: the start only
+      if (warning)
+        *warning = "the reference (rk4 at " + format_double(dt) +
+                   " s) stopped being finite at t = " + format_double(sim->time()) +
+                   " s; its growth states are the start only";
+      return {start};
+    }
     const double e = kinetic_energy(sim->velocities(), model.mass);
     if (e > fastest_energy) {
       fastest_energy = e;

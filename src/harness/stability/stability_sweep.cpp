@@ -261,10 +261,16 @@ std::vector<StabilityRow> run_stability(const Scenario& sc, const StabilityOptio
   const cloth::LinearSpectrum spectrum = cloth::linear_spectrum(cloth::build_model(sc.scene));
   std::vector<GrowthState> states;
   if (o.method != StabilityMethod::blowup) {
-    if (o.progress)
+    const double rk4_limit = cloth::predicted_stable_dt(cloth::Integrator::rk4, spectrum);
+    if (o.progress) {
+      const double h = growth_reference_dt(sc, rk4_limit);
       std::cerr << "growth: the reference states (rk4 over " << format_double(kGrowthWindow)
+                << " s in " << std::llround(kGrowthWindow / h) << " steps of " << format_double(h)
                 << " s)\n";
-    states = growth_states(sc);
+    }
+    std::string warning;
+    states = growth_states(sc, rk4_limit, &warning);
+    if (!warning.empty()) std::cerr << "growth: " << warning << "\n";
     make_directories(dir + kStabilityModes);
     write_mode(dir + kStabilityModes + "/rest.npy", cloth::build_model(sc.scene).x0);
   }
