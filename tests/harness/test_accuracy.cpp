@@ -5,10 +5,12 @@
 #include <string>
 #include <vector>
 
+#include "cloth/analysis/linear_stability.hpp"
 #include "cloth/model/integrator.hpp"
-#include "harness/sweeps/accuracy_sweep.hpp"
+#include "cloth/model/model.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario_loader.hpp"
+#include "harness/sweeps/accuracy_sweep.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
 
@@ -258,6 +260,38 @@ TEST_CASE("accuracy sweep: identical engines run once", "[sweep]") {
     CHECK(a.dt == b.dt);
     CHECK(a.error_max == b.error_max);
     CHECK(b.rerun.find("engine.twin.") != std::string::npos);
+  }
+}
+
+TEST_CASE("accuracy sweep: implicit Euler at large steps gets a reference rk4 can take",
+          "[sweep]") {
+  // the swinging cloth, 200 times stiffer and 1000 times lighter, with implicit Euler at 1/50 s
+  // as its only engine: a quarter of the smallest swept step is more than ten times rk4's
+  // limit, and a reference taken there blows up in its first steps
+  TempDir dir("implicit");
+  const Scenario sc =
+      parse_scenario(kSwing, "swing.toml",
+                     {"cloth.stiffness={ structural = 4000.0, shear = 4000.0, bend = 4000.0 }",
+                      "cloth.particle_mass=1e-4", "engine.custom.integrator=\"implicit-euler\"",
+                      "engine.custom.dt=0.02"});
+  const double rk4_limit = cloth::predicted_stable_dt(
+      cloth::Integrator::rk4, cloth::linear_spectrum(cloth::build_model(sc.scene)));
+  AccuracyOptions o = quick_options(dir.str());
+  o.halvings = 2;
+  o.integrators = {cloth::Integrator::implicit_euler};
+  REQUIRE(0.01 / 4 > 10 * rk4_limit);
+  const AccuracyReport report = run_accuracy(sc, o);
+  INFO(report.reference.description);
+  CHECK(report.reference.dt <= 0.25 * rk4_limit);
+  const double steps = sc.frame_interval / report.reference.dt;
+  CHECK(steps == Approx(std::round(steps)).epsilon(1e-9));
+  CHECK(report.reference.description.find("rk4's predicted limit") != std::string::npos);
+  // the reference is good enough to measure implicit Euler's first-order error against
+  REQUIRE(report.rows.size() == 2);
+  for (const AccuracyRow& r : report.rows) {
+    CHECK(r.stable);
+    CHECK(std::isfinite(r.error_max));
+    CHECK(r.error_max > 100 * report.reference.error_floor);
   }
 }
 

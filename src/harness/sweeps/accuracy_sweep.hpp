@@ -64,7 +64,9 @@ struct AccuracyOptions {
 ///
 /// Time-step sweep: every selected engine (custom engines: every selected integrator) at each
 /// swept dt. The reference is the custom engine with rk4 at the smallest swept dt / 4 (which
-/// divides frame_interval whenever the swept dts do); its error floor is the RMS distance at
+/// divides frame_interval whenever the swept dts do), or, where that is past a quarter of
+/// rk4's predicted limit (implicit engines at large steps), the largest step within it that
+/// divides frame_interval; its error floor is the RMS distance at
 /// the final time between rk4 at twice the reference dt and the reference: about 15 times the
 /// reference's own truncation error (rk4 at 2h errs 2^4 times more) and never below its
 /// round-off, so rows whose error_final exceed it are fitted for order and others are not.
