@@ -691,3 +691,26 @@ TEST_CASE("test table: refusals name the key and say why", "[scenario]") {
   CHECK_THAT(message(cantilever_text("[test]\nkind = \"cantilever\"\nsize = 1\n")),
              Contains("unknown key"));
 }
+
+TEST_CASE("newton = trust-region takes line-search's defaults and refuses what it cannot do",
+          "[scenario][trust-region]") {
+  const std::string head =
+      "[[engine]]\n"
+      "name = \"tr\"\n"
+      "kind = \"custom\"\n"
+      "integrator = \"implicit-euler\"\n"
+      "newton = \"trust-region\"\n";
+  const Scenario s = parse_scenario(head + "contacts = \"barrier\"\n", "tr.toml");
+  const cloth::SolverOptions& o = s.engines.at(0).solver;
+  CHECK(o.newton == cloth::NewtonMethod::trust_region);
+  CHECK(o.newton_iterations == cloth::kLineSearchNewtonIterations);
+  CHECK(o.cg_forcing == cloth::CgForcing::adaptive);
+  CHECK(o.contacts == cloth::ContactMode::barrier);
+  // the written scenario reads back the same
+  CHECK(parse_scenario(scenario_to_toml(s), "again.toml").engines.at(0).solver.newton ==
+        cloth::NewtonMethod::trust_region);
+  CHECK_THAT(error_of([&] { parse_scenario(head + "linear_solver = \"ldlt\"\n", "x.toml"); }),
+             Contains("linear_solver") && Contains("trust-region"));
+  CHECK_THAT(error_of([&] { parse_scenario(head + "clamped_iterations = 3\n", "x.toml"); }),
+             Contains("clamped_iterations") && Contains("line-search"));
+}

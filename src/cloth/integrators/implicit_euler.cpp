@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 #include "cloth/forces/spring_forces.hpp"
 
@@ -12,6 +13,17 @@ namespace {
 // armijo's sufficient-decrease constant and the line search's halvings
 constexpr double kArmijo = 1e-4;
 constexpr int kMaxHalvings = 30;
+
+// trust region (Nocedal and Wright, Numerical Optimization, algorithm 4.1): a step is taken when
+// Phi falls by at least kAcceptRatio of the model's predicted decrease; the radius shrinks to
+// kShrink times the step below kShrinkRatio and doubles when a step on the edge reaches
+// kGrowRatio
+constexpr double kAcceptRatio = 1e-4;
+constexpr double kShrinkRatio = 0.25;
+constexpr double kGrowRatio = 0.75;
+constexpr double kShrink = 0.25;
+// a predicted decrease this small relative to |Phi| is below Phi's rounding: any fall is taken
+constexpr double kRoundoff = 1e-13;
 
 }  // namespace
 
@@ -34,11 +46,18 @@ ImplicitEulerNewton::ImplicitEulerNewton(const Model& m, const SolverOptions& o,
       m_solver(m, solver),
       m_barrier(m),
       m_direct(solver == LinearSolver::ldlt) {
+  if (m_direct && o.newton == NewtonMethod::trust_region)
+    throw std::invalid_argument(
+        "newton = \"trust-region\" needs a conjugate-gradient linear_solver, not ldlt");
   const Eigen::Index n = m.particle_count();
   for (Matrix3X* a :
        {&m_x0, &m_v0, &m_v, &m_x, &m_trial, &m_dv, &m_force, &m_damp, &m_zero, &m_buf, &m_rhs})
     a->setZero(3, n);
   m_history.reserve(static_cast<size_t>(o.newton_iterations) + 1);
+  m_residuals.reserve(static_cast<size_t>(o.newton_iterations) + 1);
+  // the trust region's mass norm, zero on held axes
+  m_weights = m.free;
+  for (int r = 0; r < 3; ++r) m_weights.row(r) = m_weights.row(r).cwiseProduct(m.mass.transpose());
 }
 
 double ImplicitEulerNewton::objective(const Model& m, double h, const Matrix3X& v) {
@@ -175,6 +194,43 @@ void ImplicitEulerNewton::newton_direction(const Model& m, const SolverOptions& 
   remove_normal_parts(m_contacts, m_dv);
 }
 
+bool ImplicitEulerNewton::trust_region_iteration(const Model& m, const SolverOptions& o, double h,
+                                                 double eta, Counters& counters) {
+  // the model's matrix is the exact one; the preconditioner (its diagonal blocks and coarse
+  // grid) comes from the clamped one, which is positive definite
+  m_x = m_x0 + h * m_v;
+  linearize_springs(m.springs, m_x, true, m_lin, &m_lin_exact);
+  m_matrix.assemble_diagonal_blocks(m, m_lin, m_lin0, h);
+  m_matrix.apply_contacts(m, m_contacts, false);
+  if (m_use_barrier) add_barrier_blocks(h);
+  const TrustRegionCgResult cg =
+      m_solver.solve_trust_region(m, m_matrix, m_lin_exact, m_lin, m_lin0, h, m_rhs, m_weights,
+                                  m_radius, m_dv, eta, o.cg_max_iterations, m_contacts);
+  counters.cg_iterations += cg.iterations;
+  if (!cg.on_boundary && cg.relative_residual > eta) ++counters.cg_unconverged;
+  m_dv = (m.free.array() > 0.0).select(m_dv, 0.0);
+  remove_normal_parts(m_contacts, m_dv);
+  // the ratio of Phi's actual decrease to the model's
+  const double step = std::sqrt((m_dv.array().square() * m_weights.array()).sum());
+  m_trial = m_v + m_dv;
+  ++counters.force_evals;
+  const double phi = objective(m, h, m_trial);
+  const double actual = m_phi - phi;
+  const double predicted = cg.predicted_decrease;
+  const bool roundoff = predicted <= kRoundoff * std::abs(m_phi);
+  const double ratio = predicted > 0.0 ? actual / predicted : -1.0;
+  const bool accept = std::isfinite(phi) && actual > 0.0 && (roundoff || ratio >= kAcceptRatio);
+  // the region follows the model's quality
+  if (!accept || (!roundoff && ratio < kShrinkRatio))
+    m_radius = kShrink * std::min(step, m_radius);
+  else if (ratio > kGrowRatio && cg.on_boundary)
+    m_radius *= 2.0;
+  if (!accept) return false;
+  m_v = m_trial;
+  m_phi = phi;
+  return true;
+}
+
 void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_end, double h,
                                Matrix3X& x, Matrix3X& v, Counters& counters) {
   start_step(m, o, t_end, h, x, v);
@@ -184,6 +240,8 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
   m_phi = objective(m, h, m_v);
   m_history.clear();
   m_history.push_back(m_phi);
+  m_residuals.clear();
+  m_residuals.push_back(m_residual);
   const bool adaptive = o.cg_forcing == CgForcing::adaptive;
   double eta = adaptive ? std::max(o.cg_tolerance, kForcingMax) : o.cg_tolerance;
   double residual_before = m_residual;
@@ -191,6 +249,12 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
   // converged step leaves shrinks with the step (a velocity tolerance would leave its own
   // error T tolerance over a run, whatever h)
   const double velocity_tolerance = o.newton_tolerance * h;
+  const bool trust_region = o.newton == NewtonMethod::trust_region;
+  if (trust_region && !(m_radius > 0.0)) {
+    // the first step's region: free fall's velocity change over the step in the mass norm
+    const double g = std::max(m.gravity.norm(), 1.0);
+    m_radius = h * g * std::sqrt(m_weights.sum() / 3.0);
+  }
   for (int it = 0; it < o.newton_iterations && m_residual > velocity_tolerance; ++it) {
     ++counters.newton_iterations;
     if (adaptive && it > 0) {
@@ -198,6 +262,17 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
       eta = forcing_for_tolerance(eta, m_residual, velocity_tolerance);
     }
     residual_before = m_residual;
+    if (trust_region) {
+      // a rejected step leaves m_v, its residual and its Phi; the region shrinks
+      if (trust_region_iteration(m, o, h, eta, counters)) {
+        ++counters.force_evals;
+        m_residual = residual(m, h, m_v);
+      }
+      m_history.push_back(m_phi);
+      m_residuals.push_back(m_residual);
+      if (!(m_radius > 0.0)) break;
+      continue;
+    }
     newton_direction(m, o, h, eta, counters);
     double slope = m_dv.cwiseProduct(m_rhs).sum();
     // a step that does not descend (no clamp, or a failed solve): S M^-1 times -grad Phi
@@ -211,6 +286,7 @@ void ImplicitEulerNewton::step(const Model& m, const SolverOptions& o, double t_
     ++counters.force_evals;
     m_residual = residual(m, h, m_v);
     m_history.push_back(m_phi);
+    m_residuals.push_back(m_residual);
   }
   if (m_residual > velocity_tolerance) ++counters.newton_unconverged;
   finish_contacts(x.cols());

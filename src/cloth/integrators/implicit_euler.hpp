@@ -17,6 +17,18 @@
 /// clamped one, and stop at the first direction of negative curvature (truncated Newton: the
 /// iterate reached is still a descent direction), falling back to the clamped matrix's
 /// direction when that is the very first one.
+///
+/// With newton = trust-region the same Phi, residual test and contacts are minimised in a trust
+/// region instead: each iteration solves min m(dv) = -r.dv + 1/2 dv.A dv over |dv|_M <= radius
+/// by Steihaug-Toint CG (trust_region_cg.hpp) with A the exact matrix (compressed springs'
+/// negative stiffness kept), preconditioned by the clamped one; a direction of negative
+/// curvature is followed to the region's edge, where a line search's backtracking would stop
+/// short. The step is taken only when Phi falls (by kAcceptRatio of the model's decrease at
+/// least), so every iterate lowers Phi as the line search's do; the radius shrinks when the
+/// ratio of Phi's fall to the model's is poor and grows when it is good on the edge. The region
+/// is in the mass norm |dv|_M (sqrt of twice the velocity change's kinetic energy): fixed over
+/// a run, unlike the preconditioner's norm, which changes with every iterate's clamped matrix,
+/// so one radius carries from one iteration and step to the next.
 
 #include <memory>
 #include <vector>
@@ -39,7 +51,7 @@ constexpr int kTwoLevelMinParticles = 48 * 48;
 /// @param grid  false when the cloth's springs have a general list (SpringSet::list)
 LinearSolver resolved_linear_solver(LinearSolver s, int particles, bool grid = true);
 
-/// Newton with line search for one scene; scratch sized once.
+/// Newton with a line search or a trust region for one scene; scratch sized once.
 class ImplicitEulerNewton {
  public:
   ImplicitEulerNewton(const Model& m, const SolverOptions& o);
@@ -74,6 +86,8 @@ class ImplicitEulerNewton {
 
   /// Phi at the start and after each Newton iteration of the last step (J).
   const std::vector<double>& objective_history() const { return m_history; }
+  /// Largest |M^-1 residual| at the start and after each Newton iteration of the last step (m/s).
+  const std::vector<double>& residual_history() const { return m_residuals; }
   /// Largest |M^-1 residual| after the last step (m/s).
   double last_residual() const { return m_residual; }
 
@@ -100,12 +114,19 @@ class ImplicitEulerNewton {
   double objective(const Model& m, double h, const Matrix3X& v);
   double residual(const Model& m, double h, const Matrix3X& v);
   bool line_search(const Model& m, double h, double slope, Counters& counters);
+  /// One trust-region iteration at m_v (newton = trust-region): the model's step by
+  /// Steihaug-Toint CG within m_radius, taken if Phi falls enough; updates m_radius.
+  /// @return true when the step was taken (m_v and m_phi moved)
+  bool trust_region_iteration(const Model& m, const SolverOptions& o, double h, double eta,
+                              Counters& counters);
 
   ImplicitMatrix m_matrix;
   NewtonLinearSolver m_solver;
   SpringLinearization m_lin0, m_lin, m_lin_exact;
+  Matrix3X m_weights;   // 3 by #P: the trust region's mass norm (kg), 0 on held axes
+  double m_radius = 0;  // the trust region's radius, |dv|_M (kg^1/2 m/s), kept across steps
   Matrix3X m_x0, m_v0, m_v, m_x, m_trial, m_dv, m_force, m_damp, m_zero, m_buf, m_rhs;
-  std::vector<double> m_history;
+  std::vector<double> m_history, m_residuals;
   ColliderBarrier m_barrier;
   std::vector<BarrierContact> m_barrier_contacts;  // at the iterate m_v (residual())
   std::vector<FrictionContact> m_friction_found;   // start_barrier's scratch

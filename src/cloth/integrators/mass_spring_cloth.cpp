@@ -25,8 +25,7 @@ MassSpringCloth::MassSpringCloth(Model model, const SolverOptions& options)
   if (options.integrator == Integrator::implicit_euler ||
       options.integrator == Integrator::imex_euler)
     m_cg.resize(n);
-  if (options.integrator == Integrator::implicit_euler &&
-      options.newton == NewtonMethod::line_search)
+  if (options.integrator == Integrator::implicit_euler && minimizes_potential(options.newton))
     m_newton = std::make_unique<ImplicitEulerNewton>(m_model, options);
   // the contact pass after the step: every free axis, but with a barrier in the solve only
   // the particles it does not cover (zeroed columns: counted, never moved)

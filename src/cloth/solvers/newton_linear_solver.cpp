@@ -40,13 +40,12 @@ CgResult NewtonLinearSolver::solve(const Model& m, const ImplicitMatrix& a,
   return {};
 }
 
-CgResult NewtonLinearSolver::solve_cg(const Model& m, const ImplicitMatrix& a,
-                                      const SpringLinearization& lin_k,
-                                      const SpringLinearization& lin_a,
-                                      const SpringLinearization& lin_d, double h, const Matrix3X& b,
-                                      Matrix3X& x, double tolerance, int max_iterations,
-                                      const std::vector<ContactConstraint>& contacts,
-                                      bool truncate) {
+template <class Run>
+auto NewtonLinearSolver::with_operators(const Model& m, const ImplicitMatrix& a,
+                                        const SpringLinearization& lin_k,
+                                        const SpringLinearization& lin_a,
+                                        const SpringLinearization& lin_d, double h,
+                                        const std::vector<ContactConstraint>& contacts, Run&& run) {
   // A u = (M + h drag) u - h^2 K u - h D0 u, matrix-free
   auto apply = [&](const Matrix3X& u, Matrix3X& out) {
     for (int r = 0; r < 3; ++r)
@@ -77,20 +76,44 @@ CgResult NewtonLinearSolver::solve_cg(const Model& m, const ImplicitMatrix& a,
       m_coarse_stale = false;
     }
     // a coarse matrix that failed to factorise (not positive definite numerically) is left out
-    if (!m_coarse || !m_coarse->ok())
-      return projected_pcg(apply, blocks, project, b, x, m_cg, tolerance, max_iterations, truncate);
+    if (!m_coarse || !m_coarse->ok()) return run(apply, blocks, project);
     // plus the coarse grid's correction P A_c^-1 P^T r (coarse_grid.hpp)
     auto two_level = [&](const Matrix3X& r, Matrix3X& z) {
       blocks(r, z);
       m_coarse->add_correction(r, z);
     };
-    return projected_pcg(apply, two_level, project, b, x, m_cg, tolerance, max_iterations,
-                         truncate);
+    return run(apply, two_level, project);
   }
-  for (Eigen::Index p = 0; p < b.cols(); ++p)
+  for (Eigen::Index p = 0; p < m_inv_diag.cols(); ++p)
     m_inv_diag.col(p) = a.diagonal_blocks().middleCols<3>(3 * p).diagonal().cwiseInverse();
   auto jacobi = [&](const Matrix3X& r, Matrix3X& z) { z = r.cwiseProduct(m_inv_diag); };
-  return projected_pcg(apply, jacobi, project, b, x, m_cg, tolerance, max_iterations, truncate);
+  return run(apply, jacobi, project);
+}
+
+CgResult NewtonLinearSolver::solve_cg(const Model& m, const ImplicitMatrix& a,
+                                      const SpringLinearization& lin_k,
+                                      const SpringLinearization& lin_a,
+                                      const SpringLinearization& lin_d, double h, const Matrix3X& b,
+                                      Matrix3X& x, double tolerance, int max_iterations,
+                                      const std::vector<ContactConstraint>& contacts,
+                                      bool truncate) {
+  return with_operators(m, a, lin_k, lin_a, lin_d, h, contacts,
+                        [&](auto&& apply, auto&& precondition, auto&& project) {
+                          return projected_pcg(apply, precondition, project, b, x, m_cg, tolerance,
+                                               max_iterations, truncate);
+                        });
+}
+
+TrustRegionCgResult NewtonLinearSolver::solve_trust_region(
+    const Model& m, const ImplicitMatrix& a, const SpringLinearization& lin_k,
+    const SpringLinearization& lin_a, const SpringLinearization& lin_d, double h, const Matrix3X& b,
+    const Matrix3X& weights, double radius, Matrix3X& x, double tolerance, int max_iterations,
+    const std::vector<ContactConstraint>& contacts) {
+  return with_operators(m, a, lin_k, lin_a, lin_d, h, contacts,
+                        [&](auto&& apply, auto&& precondition, auto&& project) {
+                          return trust_region_pcg(apply, precondition, project, b, weights, radius,
+                                                  x, m_cg, tolerance, max_iterations);
+                        });
 }
 
 }  // namespace cloth

@@ -13,6 +13,7 @@
 #include "cloth/solvers/conjugate_gradient.hpp"
 #include "cloth/solvers/implicit_matrix.hpp"
 #include "cloth/solvers/solver_options.hpp"
+#include "cloth/solvers/trust_region_cg.hpp"
 
 namespace cloth {
 
@@ -41,6 +42,20 @@ class NewtonLinearSolver {
                  const Matrix3X& b, Matrix3X& x, double tolerance, int max_iterations,
                  const std::vector<ContactConstraint>& contacts, bool truncate = false);
 
+  /// The trust-region subproblem of the same system: min -b.x + 1/2 x.A x over
+  /// |x|_W <= radius by Steihaug-Toint CG (trust_region_cg.hpp), A from lin_k (may be
+  /// indefinite), the preconditioner from a (assembled from lin_a, positive definite). CG
+  /// solvers only (not ldlt).
+  /// @param weights  3 by #P weights of the region's norm
+  /// @param radius   the region's radius in that norm
+  TrustRegionCgResult solve_trust_region(const Model& m, const ImplicitMatrix& a,
+                                         const SpringLinearization& lin_k,
+                                         const SpringLinearization& lin_a,
+                                         const SpringLinearization& lin_d, double h,
+                                         const Matrix3X& b, const Matrix3X& weights, double radius,
+                                         Matrix3X& x, double tolerance, int max_iterations,
+                                         const std::vector<ContactConstraint>& contacts);
+
   /// False when the last ldlt factorisation failed (A not positive definite numerically).
   bool ok() const { return m_ok; }
 
@@ -49,6 +64,12 @@ class NewtonLinearSolver {
                     const SpringLinearization& lin_a, const SpringLinearization& lin_d, double h,
                     const Matrix3X& b, Matrix3X& x, double tolerance, int max_iterations,
                     const std::vector<ContactConstraint>& contacts, bool truncate);
+  /// Calls run(apply, precondition, project) with the system's product, this solver's
+  /// preconditioner and the filter S, and returns what it returns.
+  template <class Run>
+  auto with_operators(const Model& m, const ImplicitMatrix& a, const SpringLinearization& lin_k,
+                      const SpringLinearization& lin_a, const SpringLinearization& lin_d, double h,
+                      const std::vector<ContactConstraint>& contacts, Run&& run);
 
   LinearSolver m_solver;
   bool m_analyzed = false;

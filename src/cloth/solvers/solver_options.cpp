@@ -8,8 +8,10 @@ namespace cloth {
 
 namespace {
 
-constexpr std::array<std::pair<NewtonMethod, const char*>, 2> kNewtonNames = {
-    {{NewtonMethod::linearized, "linearized"}, {NewtonMethod::line_search, "line-search"}}};
+constexpr std::array<std::pair<NewtonMethod, const char*>, 3> kNewtonNames = {
+    {{NewtonMethod::linearized, "linearized"},
+     {NewtonMethod::line_search, "line-search"},
+     {NewtonMethod::trust_region, "trust-region"}}};
 
 constexpr std::array<std::pair<LinearSolver, const char*>, 5> kSolverNames = {
     {{LinearSolver::automatic, "auto"},

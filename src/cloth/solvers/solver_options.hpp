@@ -12,9 +12,17 @@ namespace cloth {
 
 /// How implicit Euler treats the nonlinear system of a step.
 enum class NewtonMethod {
-  linearized,  ///< Baraff and Witkin: Newton steps without a line search, from (x0, v0)
-  line_search  ///< Newton on the incremental potential, backtracking line search, residual test
+  linearized,   ///< Baraff and Witkin: Newton steps without a line search, from (x0, v0)
+  line_search,  ///< Newton on the incremental potential, backtracking line search, residual test
+  trust_region  ///< Newton on the incremental potential in a trust region (Steihaug-Toint CG on
+                ///< the exact Hessian), residual test
 };
+
+/// True for the methods that minimise the step's incremental potential (line-search and
+/// trust-region): they share the residual test, the forcing and contacts in the solve.
+inline bool minimizes_potential(NewtonMethod m) {
+  return m == NewtonMethod::line_search || m == NewtonMethod::trust_region;
+}
 
 /// Which linear solver implicit Euler uses for each Newton system.
 enum class LinearSolver {
@@ -39,7 +47,7 @@ enum class ContactMode {
   barrier      ///< line-search: a barrier potential in the step's objective (contact_barrier.hpp)
 };
 
-/// "linearized", "line-search".
+/// "linearized", "line-search", "trust-region".
 const char* newton_method_name(NewtonMethod m);
 /// The method with that name, if any.
 std::optional<NewtonMethod> parse_newton_method(std::string_view name);

@@ -198,28 +198,28 @@ void check_engine_keys(const Reader& r, const toml::table& t, const EngineSpec& 
   }
 }
 
-/// A choice whose value only is what newton = "line-search" alone can do: its default there,
-/// `otherwise` in linearized mode, where only is refused (why says why).
+/// A choice whose value only is what newton = "line-search" or "trust-region" alone can do: its
+/// default there, `otherwise` in linearized mode, where only is refused (why says why).
 std::string read_line_search_choice(const Reader& r, const At& at, const cloth::SolverOptions& o,
                                     const char* key, const Keys& choices, const char* only,
                                     const char* otherwise, const char* why) {
-  const bool line_search = o.newton == cloth::NewtonMethod::line_search;
+  const bool line_search = cloth::minimizes_potential(o.newton);
   std::string value = r.choice(at, key, line_search ? only : otherwise, choices);
   if (value == only && !line_search)
     r.fail(at.table.get(key), at.key(key),
-           "\"" + value + "\" needs newton = \"line-search\" (" + why + ")");
+           "\"" + value + "\" needs newton = \"line-search\" or \"trust-region\" (" + why + ")");
   return value;
 }
 
 /// cg_forcing and contacts: adaptive forcing and contacts in the solve by default with
-/// line-search.
+/// line-search and trust-region.
 void read_line_search_keys(const Reader& r, const At& at, cloth::SolverOptions& o) {
   o.cg_forcing = *cloth::parse_cg_forcing(read_line_search_choice(
       r, at, o, "cg_forcing", kCgForcings, cloth::cg_forcing_name(cloth::CgForcing::adaptive),
       cloth::cg_forcing_name(cloth::CgForcing::fixed),
       "the linearized step has no Newton residual to adapt to"));
-  // in-solve by default with line-search; in-solve and barrier need it
-  const bool line_search = o.newton == cloth::NewtonMethod::line_search;
+  // in-solve by default with line-search and trust-region; in-solve and barrier need one
+  const bool line_search = cloth::minimizes_potential(o.newton);
   const cloth::ContactMode fallback =
       line_search ? cloth::ContactMode::in_solve : cloth::ContactMode::after_step;
   const std::string value =
@@ -228,8 +228,8 @@ void read_line_search_keys(const Reader& r, const At& at, cloth::SolverOptions& 
   if (o.contacts != cloth::ContactMode::after_step && !line_search)
     r.fail(at.table.get("contacts"), at.key("contacts"),
            "\"" + value +
-               "\" needs newton = \"line-search\" (the linearized step resolves contacts after "
-               "the step)");
+               "\" needs newton = \"line-search\" or \"trust-region\" (the linearized step "
+               "resolves contacts after the step)");
 }
 
 /// The mujoco engine's options; unset margin and friction stay the scene's.
@@ -286,8 +286,9 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
       cloth::SolverOptions& o = e.solver;
       o.newton = *cloth::parse_newton_method(
           r.choice(at, "newton", cloth::newton_method_name(o.newton), kNewtonMethods));
-      // line-search mode's iterations are a limit and its linear solves may be inexact
-      const bool line_search = o.newton == cloth::NewtonMethod::line_search;
+      // line-search and trust-region: iterations are a limit and linear solves may be inexact
+      const bool line_search = cloth::minimizes_potential(o.newton);
+      const bool trust_region = o.newton == cloth::NewtonMethod::trust_region;
       const int newton_default =
           line_search ? cloth::kLineSearchNewtonIterations : o.newton_iterations;
       const double cg_default = line_search ? cloth::kLineSearchCgTolerance : o.cg_tolerance;
@@ -296,14 +297,18 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
       o.linear_solver = *cloth::parse_linear_solver(r.choice(
           at, "linear_solver", cloth::linear_solver_name(o.linear_solver), kLinearSolvers));
       o.cg_tolerance = r.number(at, "cg_tolerance", cg_default, kPositive);
+      if (trust_region && o.linear_solver == cloth::LinearSolver::ldlt)
+        r.fail(at.table.get("linear_solver"), at.key("linear_solver"),
+               "\"ldlt\" cannot solve newton = \"trust-region\"'s subproblems (they need a "
+               "conjugate-gradient solver: auto, cg, block-jacobi-cg or two-level-cg)");
       o.cg_max_iterations = r.integer(at, "cg_max_iterations", o.cg_max_iterations, 1);
       read_line_search_keys(r, at, o);
       o.clamp_compressed = r.boolean(at, "clamp_compressed", o.clamp_compressed);
       o.clamped_iterations = r.integer(at, "clamped_iterations", o.clamped_iterations, 0);
-      if (at.table.get("clamped_iterations") && !line_search)
+      if (at.table.get("clamped_iterations") && o.newton != cloth::NewtonMethod::line_search)
         r.fail(at.table.get("clamped_iterations"), at.key("clamped_iterations"),
                "clamped_iterations needs newton = \"line-search\" (the linearized step always "
-               "uses the clamped matrix)");
+               "uses the clamped matrix, trust-region always the exact one)");
       // each step costs substeps x iterations sweeps: bounded so that a step always ends
       o.substeps = r.integer(at, "substeps", o.substeps, 1, kMaxSolverIterations);
       o.iterations = r.integer(at, "iterations", o.iterations, 1, kMaxSolverIterations);

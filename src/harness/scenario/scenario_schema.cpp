@@ -355,19 +355,21 @@ void custom_engine_keys(std::vector<ScenarioKey>& out) {
   const cloth::SolverOptions o;
   const cloth::SolverOptions ls = cloth::line_search_options();  // newton = "line-search"
   const auto both = [](const std::string& linearized, const std::string& line_search) {
-    return linearized + "; line-search: " + line_search;
+    return linearized + "; line-search, trust-region: " + line_search;
   };
   Rows r(out, "engine", engine_kind_name(EngineKind::custom));
   r.choice("integrator", quoted(cloth::integrator_name(o.integrator)), integrator_names(),
            "the time integrator");
   r.choice("newton", quoted(cloth::newton_method_name(o.newton)), kNewtonMethods,
            "implicit-euler: Newton steps from the old state, or on the incremental potential "
-           "with a line search");
+           "with a line search or in a trust region (Steihaug-Toint CG on the exact Hessian, "
+           "region in the mass norm)");
   r.integer("newton_iterations", o.newton_iterations, 1, kNoMax,
-            "implicit-euler: Newton iterations per step (line-search: a limit)",
+            "implicit-euler: Newton iterations per step (line-search, trust-region: a limit)",
             both(std::to_string(o.newton_iterations), std::to_string(ls.newton_iterations)));
   r.number("newton_tolerance", "m/s^2", o.newton_tolerance, kPositive,
-           "implicit-euler, line-search: largest |M^-1 residual| / h a step ends at");
+           "implicit-euler, line-search, trust-region: largest |M^-1 residual| / h a step ends "
+           "at");
   r.choice("linear_solver", quoted(cloth::linear_solver_name(o.linear_solver)), kLinearSolvers,
            "implicit-euler: the solver of each Newton system");
   r.number("cg_tolerance", "1",
@@ -380,16 +382,17 @@ void custom_engine_keys(std::vector<ScenarioKey>& out) {
                 quoted(cloth::cg_forcing_name(ls.cg_forcing))),
            kCgForcings,
            "implicit-euler: fixed tolerance, or Eisenstat and Walker's adaptive forcing "
-           "(line-search only)");
+           "(line-search, trust-region only)");
   r.choice("contacts",
            both(quoted(cloth::contact_mode_name(o.contacts)),
                 quoted(cloth::contact_mode_name(ls.contacts))),
            kContactModes,
            "implicit-euler: contacts resolved after the step, inside the Newton solve as held "
            "normal velocities, or as a barrier potential in the step's objective (both "
-           "line-search only)");
+           "line-search, trust-region only)");
   r.other("clamp_compressed", "boolean", "", boolean(o.clamp_compressed), "true or false",
-          "implicit-euler: drop the negative transverse stiffness of compressed springs");
+          "implicit-euler: drop the negative transverse stiffness of compressed springs "
+          "(trust-region: only in its preconditioner)");
   r.integer("clamped_iterations", o.clamped_iterations, 0, kNoMax,
             "implicit-euler, line-search: Newton iterations on the clamped matrix before the "
             "exact one");
