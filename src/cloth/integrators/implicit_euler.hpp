@@ -80,9 +80,12 @@ class ImplicitEulerNewton {
   const std::vector<BarrierContact>& barrier_contacts() const { return m_barrier_contacts; }
   /// The particles the barrier acts on (#P flags): the others keep the contact pass.
   const std::vector<char>& barrier_covered() const { return m_barrier.covered(); }
-  /// Forgets which contacts let go at the last step (Simulator::set_state): the next step
-  /// treats every contact as the first step of a run does.
-  void forget_releases() { m_released.clear(); }
+  /// Forgets what carries from step to step (Simulator::set_state): which contacts let go and
+  /// the trust region's radius, so that the next step is the first step of a run from there.
+  void forget_history() {
+    m_released.clear();
+    m_radius = 0;
+  }
 
   /// Phi at the start and after each Newton iteration of the last step (J).
   const std::vector<double>& objective_history() const { return m_history; }

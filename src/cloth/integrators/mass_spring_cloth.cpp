@@ -92,7 +92,7 @@ void MassSpringCloth::set_state(const Matrix3X& x, const Matrix3X& v, double t) 
     for (Eigen::Index p = 0; p < n; ++p)
       m_resting[static_cast<size_t>(p)] = on_a_shell(m_model, t, m_x.col(p)) ? 1 : 0;
   }
-  if (m_newton) m_newton->forget_releases();
+  if (m_newton) m_newton->forget_history();
 }
 
 double MassSpringCloth::accelerations(const Matrix3X& x, const Matrix3X& v, Matrix3X& a) {
