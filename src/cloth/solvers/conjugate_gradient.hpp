@@ -44,6 +44,38 @@ inline double step_and_residual(double alpha, CgWorkspace& ws, Matrix3X& x) {
   return rr;
 }
 
+/// The sum of the entrywise products of two 3 by #P vectors.
+inline double cg_dot(const Matrix3X& a, const Matrix3X& c) {
+  return (a.array() * c.array()).sum();
+}
+
+/// CG's start from x = 0: r = S b, z = S P^-1 r, p = z. Returns r.z; b_norm = |S b|, and when
+/// it is 0 nothing else is set (x = 0 solves the system).
+template <class Precondition, class Project>
+double start_pcg(Precondition&& precondition, Project&& project, const Matrix3X& b, Matrix3X& x,
+                 CgWorkspace& ws, double& b_norm) {
+  x.setZero();
+  ws.r = b;
+  project(ws.r);
+  b_norm = std::sqrt(cg_dot(ws.r, ws.r));
+  if (b_norm == 0.0) return 0.0;
+  precondition(ws.r, ws.z);
+  project(ws.z);
+  ws.p = ws.z;
+  return cg_dot(ws.r, ws.z);
+}
+
+/// CG's next direction after r was updated: z = S P^-1 r, p = z + (r.z / rz) p. Returns the
+/// new r.z.
+template <class Precondition, class Project>
+double next_direction(Precondition&& precondition, Project&& project, CgWorkspace& ws, double rz) {
+  precondition(ws.r, ws.z);
+  project(ws.z);
+  const double rz_new = cg_dot(ws.r, ws.z);
+  ws.p = ws.z + (rz_new / rz) * ws.p;
+  return rz_new;
+}
+
 /// Solves S A S x = S b for symmetric positive definite A given as a product, with S an
 /// orthogonal projection applied in place.
 /// @param apply         apply(u, out): out = A u, both 3 by #P
@@ -58,21 +90,14 @@ template <class Apply, class Precondition, class Project>
 CgResult projected_pcg(Apply&& apply, Precondition&& precondition, Project&& project,
                        const Matrix3X& b, Matrix3X& x, CgWorkspace& ws, double tolerance,
                        int max_iterations, bool truncate = false) {
-  auto dot = [](const Matrix3X& a, const Matrix3X& c) { return (a.array() * c.array()).sum(); };
-  x.setZero();
-  ws.r = b;
-  project(ws.r);
-  const double b_norm = std::sqrt(dot(ws.r, ws.r));
+  double b_norm = 0.0;
+  double rz = start_pcg(precondition, project, b, x, ws, b_norm);
   CgResult res;
   if (b_norm == 0.0) return res;
-  precondition(ws.r, ws.z);
-  project(ws.z);
-  ws.p = ws.z;
-  double rz = dot(ws.r, ws.z);
   for (int it = 0; it < max_iterations; ++it) {
     apply(ws.p, ws.q);
     project(ws.q);
-    const double pq = dot(ws.p, ws.q);
+    const double pq = cg_dot(ws.p, ws.q);
     if (truncate && !(pq > 0.0)) {
       res.negative_curvature = true;
       break;
@@ -80,11 +105,7 @@ CgResult projected_pcg(Apply&& apply, Precondition&& precondition, Project&& pro
     res.iterations = it + 1;
     res.relative_residual = std::sqrt(step_and_residual(rz / pq, ws, x)) / b_norm;
     if (res.relative_residual <= tolerance) break;
-    precondition(ws.r, ws.z);
-    project(ws.z);
-    const double rz_new = dot(ws.r, ws.z);
-    ws.p = ws.z + (rz_new / rz) * ws.p;
-    rz = rz_new;
+    rz = next_direction(precondition, project, ws, rz);
   }
   return res;
 }

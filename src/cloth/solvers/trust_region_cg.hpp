@@ -57,23 +57,16 @@ TrustRegionCgResult trust_region_pcg(Apply&& apply, Precondition&& precondition,
                                      const Matrix3X& b, const Matrix3X& w, double radius,
                                      Matrix3X& s, CgWorkspace& ws, double tolerance,
                                      int max_iterations) {
-  auto dot = [](const Matrix3X& a, const Matrix3X& c) { return (a.array() * c.array()).sum(); };
-  s.setZero();
-  ws.r = b;
-  project(ws.r);
-  const double b_norm = std::sqrt(dot(ws.r, ws.r));
+  double b_norm = 0.0;
+  double rz = start_pcg(precondition, project, b, s, ws, b_norm);
   TrustRegionCgResult res;
   if (b_norm == 0.0) return res;
-  precondition(ws.r, ws.z);
-  project(ws.z);
-  ws.p = ws.z;
-  double rz = dot(ws.r, ws.z);
   // the model at s: m(s_k) = -1/2 b.s_k for CG's iterates (r_k is orthogonal to s_k)
   double model = 0.0;
   for (int it = 0; it < max_iterations; ++it) {
     apply(ws.p, ws.q);
     project(ws.q);
-    const double pq = dot(ws.p, ws.q);
+    const double pq = cg_dot(ws.p, ws.q);
     const double alpha = pq > 0.0 ? rz / pq : 0.0;
     // out of the region, or curving down: to the edge along p, where the model is
     // m(s + tau p) = m(s) - tau r.p + 1/2 tau^2 p.A p
@@ -81,7 +74,7 @@ TrustRegionCgResult trust_region_pcg(Apply&& apply, Precondition&& precondition,
     const bool leaves = (ws.z.array().square() * w.array()).sum() >= radius * radius;
     if (!(pq > 0.0) || leaves) {
       const double tau = distance_to_boundary(s, ws.p, w, radius);
-      model += -tau * dot(ws.r, ws.p) + 0.5 * tau * tau * pq;
+      model += -tau * cg_dot(ws.r, ws.p) + 0.5 * tau * tau * pq;
       s += tau * ws.p;
       res.negative_curvature = !(pq > 0.0);
       res.on_boundary = true;
@@ -90,13 +83,9 @@ TrustRegionCgResult trust_region_pcg(Apply&& apply, Precondition&& precondition,
     }
     res.iterations = it + 1;
     res.relative_residual = std::sqrt(step_and_residual(alpha, ws, s)) / b_norm;
-    model = -0.5 * dot(b, s);
+    model = -0.5 * cg_dot(b, s);
     if (res.relative_residual <= tolerance) break;
-    precondition(ws.r, ws.z);
-    project(ws.z);
-    const double rz_new = dot(ws.r, ws.z);
-    ws.p = ws.z + (rz_new / rz) * ws.p;
-    rz = rz_new;
+    rz = next_direction(precondition, project, ws, rz);
   }
   res.predicted_decrease = -model;
   return res;
