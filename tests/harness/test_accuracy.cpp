@@ -263,35 +263,78 @@ TEST_CASE("accuracy sweep: identical engines run once", "[sweep]") {
   }
 }
 
+namespace {
+
+/// kSwing with `overrides`, then 200 times stiffer and 1000 times lighter, with implicit Euler
+/// at 1/50 s as its only engine: its steps are far past what rk4 can take
+Scenario stiff_implicit(std::vector<std::string> overrides) {
+  for (const char* o : {"cloth.stiffness={ structural = 4000.0, shear = 4000.0, bend = 4000.0 }",
+                        "cloth.total_mass=2.5e-3", "engine.custom.integrator=\"implicit-euler\"",
+                        "engine.custom.dt=0.02"})
+    overrides.push_back(o);
+  return parse_scenario(kSwing, "swing.toml", overrides);
+}
+
+double rk4_limit(const Scenario& sc) {
+  return cloth::predicted_stable_dt(cloth::Integrator::rk4,
+                                    cloth::linear_spectrum(cloth::build_model(sc.scene)));
+}
+
+/// A reference within a quarter of rk4's predicted limit, dividing a frame, saying so.
+void check_rk4_can_take(const AccuracyReference& ref, double limit, double frame_interval) {
+  INFO(ref.description);
+  CHECK(ref.dt <= 0.25 * limit);
+  const double steps = frame_interval / ref.dt;
+  CHECK(steps == Approx(std::round(steps)).epsilon(1e-9));
+  CHECK(ref.description.find("rk4's predicted limit") != std::string::npos);
+}
+
+}  // namespace
+
 TEST_CASE("accuracy sweep: implicit Euler at large steps gets a reference rk4 can take",
           "[sweep]") {
-  // the swinging cloth, 200 times stiffer and 1000 times lighter, with implicit Euler at 1/50 s
-  // as its only engine: a quarter of the smallest swept step is more than ten times rk4's
-  // limit, and a reference taken there blows up in its first steps
+  // the swing with implicit Euler at 1/50 s: a quarter of the smallest swept step is more
+  // than ten times rk4's limit, and a reference taken there blows up in its first steps
   TempDir dir("implicit");
-  const Scenario sc =
-      parse_scenario(kSwing, "swing.toml",
-                     {"cloth.stiffness={ structural = 4000.0, shear = 4000.0, bend = 4000.0 }",
-                      "cloth.particle_mass=1e-4", "engine.custom.integrator=\"implicit-euler\"",
-                      "engine.custom.dt=0.02"});
-  const double rk4_limit = cloth::predicted_stable_dt(
-      cloth::Integrator::rk4, cloth::linear_spectrum(cloth::build_model(sc.scene)));
+  const Scenario sc = stiff_implicit({});
   AccuracyOptions o = quick_options(dir.str());
   o.halvings = 2;
   o.integrators = {cloth::Integrator::implicit_euler};
-  REQUIRE(0.01 / 4 > 10 * rk4_limit);
+  REQUIRE(0.01 / 4 > 10 * rk4_limit(sc));
   const AccuracyReport report = run_accuracy(sc, o);
-  INFO(report.reference.description);
-  CHECK(report.reference.dt <= 0.25 * rk4_limit);
-  const double steps = sc.frame_interval / report.reference.dt;
-  CHECK(steps == Approx(std::round(steps)).epsilon(1e-9));
-  CHECK(report.reference.description.find("rk4's predicted limit") != std::string::npos);
+  check_rk4_can_take(report.reference, rk4_limit(sc), sc.frame_interval);
   // the reference is good enough to measure implicit Euler's first-order error against
   REQUIRE(report.rows.size() == 2);
   for (const AccuracyRow& r : report.rows) {
     CHECK(r.stable);
     CHECK(std::isfinite(r.error_max));
     CHECK(r.error_max > 100 * report.reference.error_floor);
+  }
+}
+
+TEST_CASE("accuracy sweep: the resolution study at large steps gets a reference rk4 can take",
+          "[sweep]") {
+  // the flap so, on 3 x 3 and 5 x 5 grids: the smallest step run is far past what rk4 can
+  // take on the finest grid (the study stopped, telling the user to sweep smaller steps)
+  TempDir dir("implicit-grids");
+  const Scenario sc = stiff_implicit(kFlap);
+  AccuracyOptions o = quick_options(dir.str());
+  o.halvings = 1;
+  o.integrators = {cloth::Integrator::implicit_euler};
+  o.resolutions = {3, 5};
+  REQUIRE(sc.scene.cloth.nu == 5);
+  REQUIRE(0.02 > 10 * rk4_limit(sc));
+  const AccuracyReport report = run_accuracy(sc, o);
+  CHECK(report.resolution_reference.nu == 5);
+  check_rk4_can_take(report.resolution_reference, rk4_limit(sc), sc.frame_interval);
+  // measured against it, every row's error is finite: on the finest grid it is implicit
+  // Euler's time-step error alone
+  REQUIRE(report.resolution_rows.size() == 2);
+  for (const AccuracyRow& r : report.resolution_rows) {
+    INFO(r.particles << " particles: error_final " << r.error_final);
+    CHECK(r.stable);
+    CHECK(std::isfinite(r.error_final));
+    CHECK(r.error_final > 0);
   }
 }
 

@@ -180,6 +180,23 @@ EngineSpec reference_spec(const Scenario& sc, std::string* words) {
   return spec;
 }
 
+/// A reference's rk4 step on the grid of `grid`: `wanted`, or, when that is past
+/// kReferenceLimitFraction of rk4's predicted limit there (implicit engines at large steps),
+/// the largest step within it that divides a frame. *why says which, `wanted_words` naming
+/// where `wanted` came from.
+double reference_dt(const Scenario& grid, double wanted, const std::string& wanted_words,
+                    std::string* why) {
+  *why = wanted_words;
+  const double rk4_limit = cloth::predicted_stable_dt(
+      cloth::Integrator::rk4, cloth::linear_spectrum(cloth::build_model(grid.scene)));
+  if (wanted <= kReferenceLimitFraction * rk4_limit) return wanted;
+  *why = "within a quarter of rk4's predicted limit " + format_double(rk4_limit) +
+         " s and dividing a frame; " + wanted_words + ", " + format_double(wanted) +
+         " s, is past it";
+  return grid.frame_interval /
+         std::ceil(grid.frame_interval / (kReferenceLimitFraction * rk4_limit));
+}
+
 /// The time-step study's reference: the custom engine with rk4 well below every swept dt.
 void plan_reference(const Scenario& sc, double smallest_dt, AccuracyPlan& plan) {
   const bool custom = reference_base(sc) != nullptr;
@@ -188,19 +205,9 @@ void plan_reference(const Scenario& sc, double smallest_dt, AccuracyPlan& plan) 
   AccuracyReference& ref = plan.reference;
   ref.study = "dt";
   ref.engine = custom ? base.name : "";
-  ref.dt = smallest_dt / 4;
-  std::string why = "smallest swept dt " + format_double(smallest_dt) + " s / 4";
-  // implicit engines at large steps: a quarter of theirs is past what rk4 can take, so the
-  // largest step that divides a frame within a fraction of rk4's predicted limit
-  const double rk4_limit = cloth::predicted_stable_dt(
-      cloth::Integrator::rk4, cloth::linear_spectrum(cloth::build_model(sc.scene)));
-  if (ref.dt > kReferenceLimitFraction * rk4_limit) {
-    ref.dt =
-        sc.frame_interval / std::ceil(sc.frame_interval / (kReferenceLimitFraction * rk4_limit));
-    why = "within a quarter of rk4's predicted limit " + format_double(rk4_limit) +
-          " s and dividing a frame; a quarter of the smallest swept dt, " +
-          format_double(smallest_dt / 4) + " s, is past it";
-  }
+  std::string why;
+  ref.dt = reference_dt(sc, smallest_dt / 4,
+                        "smallest swept dt " + format_double(smallest_dt) + " s / 4", &why);
   ref.nu = sc.scene.cloth.nu;
   ref.nv = sc.scene.cloth.nv;
   check_divides(sc, ref.dt, "the reference");
@@ -262,10 +269,13 @@ void plan_resolutions(const Scenario& sc, const std::vector<EngineSpec>& engines
   AccuracyReference& rr = plan.resolution_reference;
   rr.study = "resolution";
   rr.engine = plan.reference.engine;
-  rr.dt = smallest_dt;
-  for (const EngineSpec& e : engines) rr.dt = std::min(rr.dt, e.dt);
+  double smallest = smallest_dt;
+  for (const EngineSpec& e : engines) smallest = std::min(smallest, e.dt);
+  std::string why;
+  rr.dt = reference_dt(plan.grids.back(), smallest, "the smallest dt swept or run", &why);
+  check_divides(plan.grids.back(), rr.dt, "the resolution reference");
   rr.nu = rr.nv = plan.sizes.back();
-  rr.description = "rk4 at dt = " + format_double(rr.dt) + " s (the smallest dt swept or run) on " +
+  rr.description = "rk4 at dt = " + format_double(rr.dt) + " s (" + why + ") on " +
                    grid_name(rr.nu, rr.nv) + " particles (the finest grid), " + words;
   plan.resolution_reference_run.spec = with_integrator_and_dt(base, cloth::Integrator::rk4, rr.dt);
   if (reference_base(sc))
