@@ -97,7 +97,7 @@ namespace cwt = collider_work_test;
 namespace tol = clothbench::tol;
 
 TEST_CASE("a static collider does no collider work, whatever the contact path",
-          "[collision][collider-work]") {
+          "[collision][collider-work][slow]") {
   const cwt::Path path = GENERATE(cwt::Path::after_step, cwt::Path::in_solve, cwt::Path::barrier);
   CAPTURE(cwt::path_name(path));
   // a cloth held at two corners falls onto a sphere and drapes onto a floor below it; contacts

@@ -125,7 +125,7 @@ TEST_CASE("a path is piecewise linear and held after its last point", "[collider
   CHECK(m.velocity_at(3.0).isZero());
 }
 
-TEST_CASE("a cloth resting on a floor presses on it with its weight", "[colliders]") {
+TEST_CASE("a cloth resting on a floor presses on it with its weight", "[colliders][slow]") {
   const Integrator integrator = GENERATE(from_range(all_integrators()));
   Scene s = flat_cloth(0.05);
   s.shapes.planes.push_back(floor_plane(0.5));

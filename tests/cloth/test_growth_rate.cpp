@@ -267,7 +267,7 @@ TEST_CASE("growth at the rest state of a grid equals the linear predictor's radi
 }
 
 TEST_CASE("an estimate stopped once its side of a threshold is decided takes the true side",
-          "[growth]") {
+          "[growth][slow]") {
   // the rest grid of the test above: near and far thresholds on both sides of J's largest
   // modulus, from the linear predictor; below every limit that is the free bending modes'
   // defective 1, whose Ritz values settle above it (the non-normal case a bound from the

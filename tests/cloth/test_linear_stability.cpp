@@ -135,7 +135,7 @@ double perturbation_growth(const Scene& scene, Integrator integrator, double h) 
 }  // namespace
 
 TEST_CASE("perturbations of the rest state decay below the predicted limit and grow above it",
-          "[integrator][stability]") {
+          "[integrator][stability][slow]") {
   const Integrator integrator =
       GENERATE(Integrator::explicit_euler, Integrator::symplectic_euler,
                Integrator::picard_implicit, Integrator::midpoint, Integrator::rk4);

@@ -131,7 +131,7 @@ TEST_CASE("a limit set by contact is labelled so", "[.][growth-sweep]") {
 }
 
 TEST_CASE("estimates stopped once decided give the same limit in fewer steps",
-          "[stability][growth]") {
+          "[stability][growth][slow]") {
   // the scene without contact at its rest state (the free bending modes' non-normal block at
   // 1 below the limit): the early stop must leave every verdict as it was, so the bracket and
   // the bisection take the same time steps and end at the same ones
@@ -166,7 +166,7 @@ TEST_CASE("estimates stopped once decided give the same limit in fewer steps",
 }
 
 TEST_CASE("a first step of 5 % from the prediction brackets the same limit",
-          "[stability][growth]") {
+          "[stability][growth][slow]") {
   // the verdicts do not depend on the path: the two brackets overlap; where the limit is
   // within 5 % of the prediction (symplectic Euler, rk4 here) fewer steps are judged
   const cloth::Integrator integrator =

@@ -203,7 +203,7 @@ std::string pairing_name(const Pairing& p) {
 
 }  // namespace
 
-TEST_CASE("bullet-deformable and the custom engine agree on the flag", "[bullet]") {
+TEST_CASE("bullet-deformable and the custom engine agree on the flag", "[bullet][slow]") {
   // Measured RMS distance over 2 s at dt = 1e-3 (cloth 1.5 m x 1 m, limit 1% of 1 m):
   //   symplectic-euler vs Bullet explicit  5.7e-5 m  (0.006%)
   //   implicit-euler   vs Bullet implicit  1.2e-4 m  (0.012%)
@@ -244,7 +244,7 @@ TEST_CASE("imex-euler is bullet-deformable's explicit scheme", "[bullet]") {
 }
 
 TEST_CASE("what separates bullet-deformable from the custom engine is first order in dt",
-          "[bullet]") {
+          "[bullet][slow]") {
   // Same model, two first-order integrators: their difference must halve with dt. A model
   // difference (a damping formula, a rest length, a mass) would not vanish as dt -> 0.
   const Pairing p = GENERATE(Pairing{Integrator::symplectic_euler, false},
@@ -461,7 +461,7 @@ TEST_CASE("a Bullet cloth that starts in contact gains no more than free fall in
   CHECK(kinetic <= free_fall * (1.0 + kRoundoffRelative));
 }
 
-TEST_CASE("bullet-deformable on the seed scene does not hang on round-off", "[bullet]") {
+TEST_CASE("bullet-deformable on the seed scene does not hang on round-off", "[bullet][slow]") {
   // A 1e-13 relative change of the damping is round-off for any physical purpose; the drape
   // must not notice it. Measured RMS distance between the two runs after 0.5 s: explicit
   // 1.2e-14 m, implicit 1.8e-14 m; before the start-up contact was resolved ahead of the first
