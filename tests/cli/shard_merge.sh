@@ -59,11 +59,12 @@ for bad in 0/3 4/3 3 x/y 1/0; do
   grep -q "shard $bad: expected K/N" "$work/stderr" || fail "--shard $bad: $(cat "$work/stderr")"
 done
 
-# map: three points over two shards
-vary=(--vary cloth.stiffness.structural=500,1000,2000 -i symplectic-euler -i rk4)
-expect 0 "$clothbench" map "$scen" "${vary[@]}" "${pick[@]}" -o "$work/map"
+# map: three points over two shards (two searches per point)
+vary=(--vary cloth.stiffness.structural=500,1000,2000 -e custom-symplectic-euler -i symplectic-euler
+  -i rk4 --dt-max 0.05 -q -j 2)
+expect 0 "$clothbench" map "$scen" "${vary[@]}" -o "$work/map"
 for k in 1 2; do
-  expect 0 "$clothbench" map "$scen" "${vary[@]}" "${pick[@]}" --shard $k/2 -o "$work/map$k"
+  expect 0 "$clothbench" map "$scen" "${vary[@]}" --shard $k/2 -o "$work/map$k"
 done
 expect 0 "$clothbench" merge "$work/map-merged" "$work/map1" "$work/map2"
 for f in map.csv map_scenario.toml; do
@@ -71,7 +72,7 @@ for f in map.csv map_scenario.toml; do
 done
 refused "different sweeps" "$work/map1" "$work/s2"
 # --resume on the merged map searches nothing again (no points/ appears) and keeps map.csv
-expect 0 "$clothbench" map "$scen" "${vary[@]}" "${pick[@]}" --resume -o "$work/map-merged"
+expect 0 "$clothbench" map "$scen" "${vary[@]}" --resume -o "$work/map-merged"
 [ ! -e "$work/map-merged/points" ] || fail "map --resume on a merged map searched its points again"
 cmp "$work/map/map.csv" "$work/map-merged/map.csv" || fail "map --resume changed the merged map.csv"
 

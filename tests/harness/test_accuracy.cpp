@@ -10,6 +10,7 @@
 #include "cloth/model/model.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/scenario/scenario_loader.hpp"
+#include "harness/sweeps/accuracy_plan.hpp"
 #include "harness/sweeps/accuracy_sweep.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
@@ -336,6 +337,19 @@ TEST_CASE("accuracy sweep: the resolution study at large steps gets a reference 
     CHECK(std::isfinite(r.error_final));
     CHECK(r.error_final > 0);
   }
+}
+
+TEST_CASE("accuracy plan: a shard of a resolution study is refused by the plan", "[sweep]") {
+  // refused while planning, before the references' spectra are computed (under the sanitisers
+  // seconds on a flag) and before any folder is made
+  TempDir dir("shard-grids");
+  const Scenario sc = stiff_implicit(kFlap);
+  AccuracyOptions o = quick_options(dir.str());
+  o.resolutions = {3, 5};
+  o.shard = parse_shard("1/2");
+  CHECK_THROWS_WITH(plan_accuracy(sc, o), Catch::Contains("--shard 1/2 with --resolutions"));
+  o.resolutions = {};
+  CHECK(!plan_accuracy(sc, o).configs.empty());
 }
 
 TEST_CASE("accuracy sweep: resume runs only the missing rows", "[sweep]") {

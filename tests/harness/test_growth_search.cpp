@@ -8,6 +8,7 @@
 #include "cloth/forces/energies.hpp"
 #include "cloth/model/model.hpp"
 #include "harness/io/user_error.hpp"
+#include "harness/run/runner.hpp"
 #include "harness/scenario/scenario_loader.hpp"
 #include "harness/stability/growth_search.hpp"
 #include "harness/stability/growth_states.hpp"
@@ -242,6 +243,18 @@ dt = 0.03333333333333333
   CHECK(states[1].state.x.allFinite());
   CHECK(e.kinetic <= released);
   CHECK(e.kinetic > 0.0);
+}
+
+TEST_CASE("Ctrl-C stops the walk to the growth states", "[stability][growth]") {
+  // the walk is rk4 over a fixed window at a small step (under the sanitisers a minute on the
+  // seed scene): it must not hold an interrupted sweep until it ends
+  const Scenario sc = parse_scenario(kFree, "f.toml", {});
+  const double rk4_limit = cloth::predicted_stable_dt(
+      cloth::Integrator::rk4, cloth::linear_spectrum(cloth::build_model(sc.scene)));
+  interrupt_requested() = true;
+  CHECK_THROWS_AS(growth_states(sc, rk4_limit, nullptr), Interrupted);
+  interrupt_requested() = false;
+  CHECK(!growth_states(sc, rk4_limit, nullptr).empty());
 }
 
 TEST_CASE("a perturbation below round-off or not small is refused", "[stability][growth]") {

@@ -7,6 +7,7 @@
 #include "cloth/model/model.hpp"
 #include "harness/engines/engine_factory.hpp"
 #include "harness/io/csv_writer.hpp"
+#include "harness/run/runner.hpp"
 #include "harness/sweeps/sweep.hpp"
 
 namespace clothbench {
@@ -63,6 +64,8 @@ std::vector<GrowthState> growth_states(const Scenario& sc, double rk4_limit, std
   double fastest_energy = kinetic_energy(start.state.v, model.mass);
   const long long steps = std::llround(kGrowthWindow / dt);
   for (long long n = 0; n < steps; ++n) {
+    // Ctrl-C stops the walk at once: on a fine grid it is thousands of rk4 steps
+    if (interrupt_requested()) throw Interrupted();
     sim->step(dt);
     if (!sim->positions().allFinite() || !sim->velocities().allFinite()) {
       // what came before was the blow-up growing: the start only

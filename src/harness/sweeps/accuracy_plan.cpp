@@ -63,6 +63,10 @@ void check_options(const Scenario& sc, const AccuracyOptions& o) {
                     ": expected at most 60 (each halves dt; runs of more than " +
                     format_double(kMaxSteps) + " steps are refused)");
   if (o.repeats < 1) throw UserError("--repeats " + std::to_string(o.repeats) + ": expected >= 1");
+  if (o.shard.sharded() && !o.resolutions.empty())
+    throw UserError("--shard " + o.shard.text() +
+                    " with --resolutions: only the time-step study can be sharded; run the "
+                    "resolution study without --shard");
   for (int r : o.resolutions)
     if (r < 2)
       throw UserError("--resolutions: expected grids of at least 2 x 2, got " + std::to_string(r));
@@ -293,8 +297,9 @@ AccuracyPlan plan_accuracy(const Scenario& sc, const AccuracyOptions& o) {
   for (const EngineSpec& e : engines) require_engine_can_model(e, sc.scene, "");
   AccuracyPlan plan;
   const double smallest_dt = plan_time_steps(sc, o, engines, integrators, plan);
-  plan_reference(sc, smallest_dt, plan);
+  // the grids first: a grid the user cannot have is refused before any spectrum is computed
   plan_grids(sc, o, plan);
+  plan_reference(sc, smallest_dt, plan);
   if (!plan.grids.empty()) plan_resolutions(sc, engines, integrators, smallest_dt, plan);
   return plan;
 }

@@ -66,16 +66,12 @@ struct Scenes {
 };
 
 /// A shard's share of the time-step study (plan.configs and dt_keys reduced to the rows it
-/// owns), and the record of the whole study for shard.toml. Throws UserError for a shard of a
-/// sweep with a resolution study.
+/// owns), and the record of the whole study for shard.toml (plan_accuracy refuses a shard of a
+/// sweep with a resolution study).
 ShardPlan take_shard(AccuracyPlan& plan, const Shard& shard) {
   ShardPlan whole = {"accuracy", "work_precision.csv", {"scenario.toml", "reference.csv"}, 3,
                      3,          plan.dt_keys};
   if (!shard.sharded()) return whole;
-  if (!plan.grids.empty())
-    throw UserError("--shard " + shard.text() +
-                    " with --resolutions: only the time-step study can be sharded; run the "
-                    "resolution study without --shard");
   std::vector<AccuracyConfig> configs;
   plan.dt_keys.clear();
   for (size_t i = 0; i < plan.configs.size(); ++i)
