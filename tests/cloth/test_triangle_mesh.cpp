@@ -141,6 +141,9 @@ TEST_CASE("check_mesh finds each problem of hand-made meshes", "[mesh]") {
         std::vector<Kind>{Kind::degenerate_triangle});
   CHECK(kinds(make_mesh({o, ex, ey}, {{0, 1, 1}})) ==
         std::vector<Kind>{Kind::degenerate_triangle, Kind::unused_vertex});
+  // finite coordinates whose sides square to infinity: too large, not zero area
+  CHECK(kinds(make_mesh({o, 1e200 * ex, 1e200 * ey}, {{0, 1, 2}})) ==
+        std::vector<Kind>{Kind::oversized_triangle});
   // a fin: three triangles on the edge 0-1
   CHECK(kinds(make_mesh({o, ex, ey, ez, -ey}, {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}})) ==
         std::vector<Kind>{Kind::non_manifold_edge});
@@ -287,6 +290,20 @@ TEST_CASE("shapes that cannot be generated are named, not made", "[mesh]") {
   ShapeSpec thin = spec_of(MeshShape::tube);
   thin.radius = 5 * thin.edge_length / (2 * M_PI);  // five edges around
   CHECK(shape_spec_problem(thin).rfind("edge_length:", 0) == 0);
+  // a disk as coarse (a polygon of five sides is not the shape; an annulus is held to one
+  // edge across its ring, which is stricter), and a rectangle narrower than one edge
+  ShapeSpec coarse = spec_of(MeshShape::disk);
+  coarse.edge_length = 2 * M_PI * coarse.radius / 5;
+  CHECK(shape_spec_problem(coarse).rfind("edge_length: a disk needs at least six edges around",
+                                         0) == 0);
+  coarse.edge_length = 2 * M_PI * coarse.radius / 6.5;
+  CHECK(shape_spec_problem(coarse).empty());
+  ShapeSpec strip = spec_of(MeshShape::rectangle);
+  strip.edge_length = 1.01 * std::min(strip.size_u, strip.size_v);
+  CHECK(shape_spec_problem(strip).rfind("edge_length: at most the rectangle's shorter side", 0) ==
+        0);
+  strip.edge_length = std::min(strip.size_u, strip.size_v);
+  CHECK(shape_spec_problem(strip).empty());
   ShapeSpec huge = spec_of(MeshShape::rectangle);
   huge.edge_length = 1e-4;  // 0.06 m^2 / (8.7e-9 m^2 per vertex): 6.9 million vertices
   CHECK(shape_spec_problem(huge).find("more than 2000000 vertices") != std::string::npos);

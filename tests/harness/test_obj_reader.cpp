@@ -97,6 +97,7 @@ TEST_CASE("each bad mesh is refused with the line that holds the problem", "[mes
       {"nan_coordinate.obj", 3, "not a finite number"},
       {"inf_coordinate.obj", 4, "not a finite number"},
       {"huge_coordinate.obj", 4, "out of the range of a double"},
+      {"oversized_triangle.obj", 5, "triangle (vertices 1, 3, 2) too large to measure"},
       {"bad_number.obj", 3, "expected a number as vertex coordinate, got \"0,5\""},
       {"edge_three_triangles.obj", 9, "edge between vertices 1 and 2 is shared by more than two"},
       {"bowtie.obj", 2, "vertex 1 is where separate fans of faces meet"},

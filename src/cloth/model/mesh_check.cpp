@@ -53,8 +53,16 @@ void check_triangles(const TriangleMesh& mesh, std::vector<MeshProblem>& out) {
       continue;
     }
     const Vector3 a = mesh.x.col(tri[0]), b = mesh.x.col(tri[1]), c = mesh.x.col(tri[2]);
+    // a corner that is not finite is its vertex's problem (non_finite_vertex)
+    if (!a.allFinite() || !b.allFinite() || !c.allFinite()) continue;
     const double longest =
         std::max({(b - a).squaredNorm(), (c - b).squaredNorm(), (a - c).squaredNorm()});
+    // coordinates past about 1e154 m: neither length nor area can be measured
+    if (!std::isfinite(longest)) {
+      out.push_back({Kind::oversized_triangle, -1, -1, t, -1,
+                     "triangle " + str(t) + names + " has a side too long to measure"});
+      continue;
+    }
     if (0.5 * (b - a).cross(c - a).norm() <= kDegenerateAreaRatio * longest)
       out.push_back({Kind::degenerate_triangle, -1, -1, t, -1,
                      "triangle " + str(t) + names + " has zero area"});

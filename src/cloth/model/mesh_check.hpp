@@ -17,6 +17,7 @@ enum class MeshProblemKind {
   non_finite_vertex,         ///< a coordinate is NaN or infinite (vertex)
   index_out_of_range,        ///< a triangle names a vertex outside [0, #V) (triangle)
   degenerate_triangle,       ///< a repeated vertex or (near) zero area (triangle)
+  oversized_triangle,        ///< a side whose squared length overflows a double (triangle)
   non_manifold_edge,         ///< an edge shared by more than two triangles (triangle: the third)
   inconsistent_orientation,  ///< two triangles run along their shared edge the same way
                              ///< (triangle: the later one)

@@ -384,8 +384,13 @@ std::string shape_spec_problem(const ShapeSpec& spec) {
     return "lattice_angle: applies to lattice = \"grid\" alone";
   if (spec.shape == MeshShape::tube && !positive(spec.length))
     return "length: expected a number > 0";
-  if (spec.shape == MeshShape::tube && kTwoPi * spec.radius < 6.0 * spec.edge_length)
-    return "edge_length: a tube needs at least six edges around (edge_length <= 2 pi radius / 6)";
+  // coarser than six edges around a round rim or one across a rectangle, the mesh is not the
+  // shape (a 0.15 m disk at edge_length 10 m: four vertices, yet a drape test's verdict)
+  if (round && kTwoPi * spec.radius < 6.0 * spec.edge_length)
+    return std::string("edge_length: a ") + mesh_shape_name(spec.shape) +
+           " needs at least six edges around (edge_length <= 2 pi radius / 6)";
+  if (spec.shape == MeshShape::rectangle && spec.edge_length > std::min(spec.size_u, spec.size_v))
+    return "edge_length: at most the rectangle's shorter side (at least one edge across it)";
   // the area over the area per point of a triangular lattice, h^2 sqrt(3) / 2 (a grid's h^2)
   double area = spec.size_u * spec.size_v;
   if (spec.shape == MeshShape::disk) area = kTwoPi / 2 * spec.radius * spec.radius;

@@ -269,6 +269,10 @@ std::string describe(const cloth::MeshProblem& p, const std::string& name, const
     case Kind::degenerate_triangle:
       return at(f.triangle_line[p.triangle]) + "degenerate triangle (vertices " + tri() +
              "): zero area or a repeated vertex";
+    case Kind::oversized_triangle:
+      return at(f.triangle_line[p.triangle]) + "triangle (vertices " + tri() +
+             ") too large to measure: a side's squared length overflows a double (coordinates "
+             "are in metres)";
     case Kind::non_manifold_edge:
       return at(f.triangle_line[p.triangle]) + edge() +
              " is shared by more than two triangles (this face's is the third)";

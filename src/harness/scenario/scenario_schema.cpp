@@ -191,7 +191,10 @@ void generate_keys(std::vector<ScenarioKey>& out) {
   r.other("size", "[u, v] numbers", "m", "none (rectangle)", std::string(kLength.text) + " each",
           "extent along the plane's two axes");
   r.number("length", "m", "none (tube)", kLength, "the tube's length along y");
-  r.number("edge_length", "m", "none (required)", kLength, "target edge length of the triangles");
+  r.number(
+      "edge_length", "m", "none (required)", kLength,
+      "target edge length of the triangles: at least six edges around a disk or tube "
+      "(at most 2 pi radius / 6), one across an annulus's ring and a rectangle's shorter side");
   r.integer("seed", 1, 0, kNoMax, "the jitter's seed: the same seed gives the same mesh");
   r.vector("center", "m", g.center, "centre of the shape");
   r.choice("plane", quoted(plane_name(g.plane)), kPlanes,
