@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # clothbench fit refuses what it cannot do before any run, in one line naming the option:
 # a malformed --target or --range, a metric no scenario gives, an engine no scenario has, more
-# ranges than targets; nothing is written then. An engine without a metric's scenario is a
+# ranges than targets, a metric given twice, a length that is not positive, a --range key the
+# scenario lacks; nothing is written then. An engine without a metric's scenario is a
 # row "no engine", not an error; a target the scenario cannot show is unreachable at once.
 # Usage: fit_refusals.sh CLOTHBENCH SOURCE_DIR WORK_DIR
 set -u
@@ -25,6 +26,16 @@ has stderr "expected 0 < LO < HI" "empty range"
 expect 2 "$clothbench" fit "$cantilever" -q -o "$work/f" --target bending_length=0.03 \
   --range cloth.stiffness.bend=10:100 --range cloth.damping=1:2
 has stderr "2 ranges for 1 targets" "more ranges than targets"
+# a metric given two targets, a length that is not positive, a --range key the scenario lacks
+# (named as the --range, not as the --set it becomes)
+expect 2 "$clothbench" fit "$cantilever" -q -o "$work/f" --target bending_length=0.03 \
+  --target bending_length=0.04
+has stderr "clothbench: --target bending_length: given twice (0.03 and 0.04)" "two targets"
+expect 2 "$clothbench" fit "$cantilever" -q -o "$work/f" --target bending_length=-1
+has stderr "clothbench: --target bending_length=-1: expected a number > 0" "negative length"
+expect 2 "$clothbench" fit "$cantilever" -q -o "$work/f" --target bending_length=0.03 \
+  --range cloth.no_such_key=1:2 -e custom-rk4
+has stderr "clothbench: --range cloth.no_such_key=1:2: unknown key \"no_such_key\"" "range key"
 [ ! -e "$work/f/fit.csv" ] || fail "a refused fit wrote fit.csv"
 
 # the chain has no custom-implicit-euler: its row says so, the cantilever's engine is fitted

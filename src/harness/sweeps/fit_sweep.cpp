@@ -336,6 +336,50 @@ void plan(FitJob& job) {
   }
 }
 
+/// Refuses a metric given two targets (the fit could meet at most one) and, for the metrics
+/// with a default parameter, a target that is not positive (a length, a rigidity, a tensile
+/// stiffness and a drape coefficient are; the reach check would give advice for a negative).
+void check_targets(const FitJob& job) {
+  for (size_t t = 0; t < job.o.targets.size(); ++t) {
+    const FitTarget& a = job.o.targets[t];
+    for (size_t u = 0; u < t; ++u)
+      if (job.o.targets[u].metric == a.metric)
+        throw UserError("--target " + a.metric + ": given twice (" +
+                        format_double(job.o.targets[u].value) + " and " + format_double(a.value) +
+                        "); a metric has one target");
+    static const char* const kPositive[] = {"bending_length", "bending_length_peirce",
+                                            "flexural_rigidity", "drape_coefficient",
+                                            "tensile_stiffness"};
+    if (std::find(std::begin(kPositive), std::end(kPositive), a.metric) != std::end(kPositive) &&
+        !(a.value > 0.0))
+      throw UserError("--target " + a.metric + "=" + format_double(a.value) +
+                      ": expected a number > 0 (" + a.metric + " is positive)");
+  }
+}
+
+/// Each --range key set once, at its LO, on its target's scenario for every engine fitted, so
+/// that a key the scenario does not have is refused naming --range before any run.
+void check_range_keys(const FitJob& job, const std::vector<std::string>& engines) {
+  for (size_t t = 0; t < job.o.ranges.size() && t < job.targets.size(); ++t) {
+    const FitRange& r = job.o.ranges[t];
+    const std::string path = job.o.scenarios[job.target_scenario[t]];
+    for (const std::string& engine : engines) {
+      if (!find_engine(job.scenarios[job.target_scenario[t]], engine)) continue;
+      for (const std::string& set : parameter_sets(r.key, engine, r.lo)) {
+        std::vector<std::string> sets = job.o.overrides;
+        sets.push_back(set);
+        try {
+          load_scenario(path, sets, {engine});
+        } catch (const UserError& e) {
+          throw UserError(as_option_error(
+              e.what(), set.substr(0, set.find('=')),
+              "--range " + r.key + "=" + format_double(r.lo) + ":" + format_double(r.hi)));
+        }
+      }
+    }
+  }
+}
+
 /// The engines to fit: the ones asked for (each in some scenario), else every engine.
 std::vector<std::string> engines_to_fit(const FitJob& job) {
   std::vector<std::string> all;
@@ -532,8 +576,11 @@ void fit_engine(FitJob& job, const std::string& engine) {
 
 FitOutcome run_fit(const FitOptions& o) {
   FitJob job{with_fabric(o), {}, {}, {}, {}, {}, 0};
+  check_targets(job);
   plan(job);
-  for (const std::string& engine : engines_to_fit(job)) fit_engine(job, engine);
+  const std::vector<std::string> engines = engines_to_fit(job);
+  check_range_keys(job, engines);
+  for (const std::string& engine : engines) fit_engine(job, engine);
   return std::move(job.outcome);
 }
 
