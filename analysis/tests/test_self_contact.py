@@ -8,6 +8,7 @@ import os
 import shutil
 import tempfile
 import unittest
+from unittest import mock
 
 from analysis import verdicts
 from analysis.folder import Folder
@@ -127,6 +128,22 @@ class SelfContactReport(unittest.TestCase):
         ctx = Context(self.tmp, False, style.Colors(f.engines()))
         png = self_contact.draw([f], ctx)
         self.assertTrue(os.path.getsize(png) > 1000)
+
+    def test_a_run_without_crossings_counts_in_whole_numbers_from_zero(self):
+        dst = os.path.join(self.tmp, "run")
+        with_crossings(RUN, dst, lambda e, t: 0)
+        f = Folder(dst)
+        ctx = Context(self.tmp, False, style.Colors(f.engines()))
+        drawn = []
+        real_save = style.save
+        with mock.patch.object(style, "save",
+                               side_effect=lambda fig, *a: drawn.append(fig) or real_save(fig, *a)):
+            self_contact.draw([f], ctx)
+        counts = drawn[0].axes[0]
+        low, high = counts.get_ylim()
+        ticks = [y for y in counts.get_yticks() if low <= y <= high]
+        self.assertGreaterEqual(high, 1.0)
+        self.assertTrue(ticks and all(y == int(y) and y >= 0 for y in ticks), ticks)
 
 
 if __name__ == "__main__":
