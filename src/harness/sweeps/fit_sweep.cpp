@@ -30,6 +30,22 @@ namespace clothbench {
 
 namespace {
 
+/// The metrics fitted through the bend stiffness (or the hinge's rigidity) when no --range
+/// names a parameter; with tensile_stiffness, the metrics that have a default parameter. Each
+/// is positive by definition: a length, a rigidity, a drape coefficient, a stiffness.
+constexpr const char* kBendMetrics[] = {"bending_length", "bending_length_peirce",
+                                        "flexural_rigidity", "drape_coefficient"};
+
+bool is_bend_metric(const std::string& metric) {
+  return std::find(std::begin(kBendMetrics), std::end(kBendMetrics), metric) !=
+         std::end(kBendMetrics);
+}
+
+/// True for the metrics default_parameter maps to a parameter (on every engine).
+bool has_default_parameter(const std::string& metric) {
+  return is_bend_metric(metric) || metric == "tensile_stiffness";
+}
+
 /// The prefix of a parameter that is the engine's own key ("engine.klst").
 constexpr const char* kEngineKey = "engine.";
 
@@ -116,8 +132,7 @@ std::string default_parameter(const std::string& metric, const EngineSpec& e, co
   const bool klst = e.kind == EngineKind::bullet_softbody &&
                     e.bullet.stiffness == reference::SoftbodyStiffness::klst;
   if (klst) return "engine.klst";
-  if (metric == "bending_length" || metric == "bending_length_peirce" ||
-      metric == "flexural_rigidity" || metric == "drape_coefficient")
+  if (is_bend_metric(metric))
     return c.bend_model == cloth::BendModel::hinge ? "cloth.bending_rigidity"
                                                    : "cloth.stiffness.bend";
   // a strip of a grid with per-direction springs: the ones along its direction
@@ -347,11 +362,7 @@ void check_targets(const FitJob& job) {
         throw UserError("--target " + a.metric + ": given twice (" +
                         format_double(job.o.targets[u].value) + " and " + format_double(a.value) +
                         "); a metric has one target");
-    static const char* const kPositive[] = {"bending_length", "bending_length_peirce",
-                                            "flexural_rigidity", "drape_coefficient",
-                                            "tensile_stiffness"};
-    if (std::find(std::begin(kPositive), std::end(kPositive), a.metric) != std::end(kPositive) &&
-        !(a.value > 0.0))
+    if (has_default_parameter(a.metric) && !(a.value > 0.0))
       throw UserError("--target " + a.metric + "=" + format_double(a.value) +
                       ": expected a number > 0 (" + a.metric + " is positive)");
   }
