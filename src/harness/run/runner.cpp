@@ -140,7 +140,8 @@ void finish_run(EngineRun& run, const cloth::Simulator& sim, const cloth::Model&
 }
 
 /// Advances progress by a frame of steps; the label carries the simulated time, so that a slow
-/// engine shows how far it has come.
+/// engine shows how far it has come. Live bar or not: in a log, Progress prints a plain line
+/// every 5 %, so a long run there is not silent.
 void show_frame(Progress& progress, const Scenario& sc, const EngineSpec& spec,
                 const cloth::Simulator& sim, long long steps) {
   char label[96];
@@ -251,7 +252,7 @@ EngineRun run_engine_on(const Scenario& sc, const EngineSpec& spec, const cloth:
       }
     }
     log_frame(f, run.stable);
-    if (progress && progress->live()) show_frame(*progress, sc, spec, *sim, steps_per_frame);
+    if (progress) show_frame(*progress, sc, spec, *sim, steps_per_frame);
     const bool last = f == frames || !run.stable;
     if (last || (frames_per_snapshot > 0 && f % frames_per_snapshot == 0)) snapshot();
   }
