@@ -20,7 +20,6 @@ class Progress {
   void advance(double done, const std::string& label);
   /// A line of its own (kept above the bar); printed whether or not stderr is a terminal.
   void line(const std::string& text);
-  bool live() const { return m_live; }
 
  private:
   void draw(bool force);
