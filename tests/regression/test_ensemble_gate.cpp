@@ -9,6 +9,8 @@
 #include "cloth/model/model.hpp"
 #include "cloth/model/triangle_mesh.hpp"
 #include "harness/gate/ensemble_gate.hpp"
+#include "harness/gate/ensemble_runs.hpp"
+#include "harness/gate/ensemble_size.hpp"
 #include "harness/gate/regression_check.hpp"
 #include "harness/gate/tolerances_file.hpp"
 #include "harness/gate/welch_test.hpp"
@@ -226,19 +228,34 @@ std::vector<Gate> gates_of(const std::vector<Gate>& gates, const std::string& en
 
 }  // namespace
 
+namespace {
+
+// kChain in a scratch folder with a baseline folder whose tolerances end in `ensemble`, and
+// the check options that use it
+struct ChainBaseline {
+  ScratchFolder dir{"clothbench-test-ensemble-"};
+  fs::path base = fs::path(dir.path()) / "baselines" / "ensemble_chain";
+  std::string scenario = (fs::path(dir.path()) / "chain.toml").string();
+  CheckOptions options;
+  explicit ChainBaseline(const std::string& ensemble) {
+    fs::create_directories(base);
+    std::ofstream(scenario) << kChain;
+    std::ofstream(base / "tolerances.toml") << tolerance_text(ensemble);
+    options.baseline_dir = base.parent_path().string();
+    options.progress = false;
+    options.jobs = 2;
+  }
+};
+
+}  // namespace
+
 TEST_CASE("check records an ensemble, gates it, and catches a damping change", "[ensemble]") {
-  const ScratchFolder dir("clothbench-test-ensemble-");
-  const fs::path root = dir.path(), base = root / "baselines" / "ensemble_chain";
-  fs::create_directories(base);
-  const std::string scenario = (root / "chain.toml").string();
-  std::ofstream(scenario) << kChain;
-  std::ofstream(base / "tolerances.toml") << tolerance_text(
+  const ChainBaseline chain(
       "[ensemble.custom-symplectic-euler]\nmembers = 4\nreason = \"test\"\n"
       "quantities = [\"final_com_y\", \"final_shape_rms\"]\n");
-  CheckOptions o;
-  o.baseline_dir = (root / "baselines").string();
-  o.progress = false;
-  o.jobs = 2;
+  const fs::path& base = chain.base;
+  const std::string& scenario = chain.scenario;
+  CheckOptions o = chain.options;
   CheckOptions update = o;
   update.update = true;
   check_scenario(scenario, update);
@@ -267,4 +284,129 @@ TEST_CASE("check records an ensemble, gates it, and catches a damping change", "
       gates_of(check_scenario(scenario, o), "custom-symplectic-euler", "final_com_y");
   REQUIRE(moved.size() == 1);
   CHECK_FALSE(moved[0].pass);
+}
+
+// The ensemble's size: Welch's power against Monte Carlo, the shift an ensemble catches, the
+// members a goal needs, the tolerance file's `detect`, and check --update choosing N.
+
+TEST_CASE("Welch's power by quadrature equals its Monte Carlo rate", "[ensemble]") {
+  // Independent route: the rejection rate of scipy.stats.ttest_ind(equal_var=False) on
+  // normal samples of sd 1, numpy default_rng seeds 1 and 2, 200,000 or 400,000 pairs (so one
+  // binomial standard deviation is at most 0.001); the bound is four of them.
+  struct Case {
+    double shift;
+    int n;
+    double alpha, rate, trials;
+  };
+  for (const Case c :
+       {Case{3.260934827, 8, 2.5e-4, 0.864905, 2e5}, Case{5.848132131, 4, 1e-3, 0.71973, 2e5},
+        Case{2.001009921, 16, 2e-4, 0.894645, 2e5},
+        Case{0.0, 8, 0.05, 0.04804, 4e5},  // Welch is a little conservative
+        Case{0.0, 2, 0.05, 0.02356, 4e5},  // and much more so at n = 2
+        Case{3.39347, 8, 2.5e-4, 0.90058, 4e5}, Case{545.798, 2, 1e-3, 0.8995275, 4e5}}) {
+    INFO("shift " << c.shift << ", n " << c.n << ", alpha " << c.alpha);
+    const double sigma = std::sqrt(c.rate * (1 - c.rate) / c.trials);
+    CHECK(std::abs(welch_power(c.shift, c.n, c.alpha) - c.rate) < 4 * sigma);
+  }
+  // the textbook pooled-t sizing would claim 0.9 at n = 4, alpha = 1e-3 for this shift
+  CHECK(welch_power(5.848132131, 4, 1e-3) < 0.75);
+}
+
+TEST_CASE("the shift an ensemble catches: in the spread's unit, falling with N", "[ensemble]") {
+  const double a = 2.5e-4;
+  const double d8 = detectable_shift(1.0, 8, a);
+  CHECK(welch_power(d8, 8, a) == Approx(kEnsemblePower).margin(1e-6));
+  CHECK(detectable_shift(0.003, 8, a) == Approx(0.003 * d8).epsilon(1e-6));
+  CHECK(detectable_shift(1.0, 16, a) < d8);
+  CHECK(detectable_shift(1.0, 4, a) > d8);
+  CHECK(detectable_shift(0.0, 8, a) == 0.0);
+  CHECK(std::isnan(detectable_shift(1.0, 1, a)));
+  CHECK(std::isnan(detectable_shift(NAN, 8, a)));
+  // members_needed is the smallest N whose detectable shift reaches the goal
+  for (const double goal : {3.0, 1.0, 0.5}) {
+    const int n = members_needed(1.0, goal, a, 4, 1000);
+    INFO("goal " << goal << " spreads: " << n << " members");
+    REQUIRE(n > 4);
+    CHECK(detectable_shift(1.0, n, a) <= goal);
+    CHECK(detectable_shift(1.0, n - 1, a) > goal);
+  }
+  CHECK(members_needed(1.0, 100.0, a, 4, 1000) == 4);  // the fewest asked for
+  CHECK(members_needed(1.0, 0.01, a, 4, 1000) == 0);   // not within 1000
+  CHECK(members_needed(0.0, 1e-9, a, 4, 1000) == 4);
+}
+
+TEST_CASE("a tolerance file's detect: a shift > 0 for each quantity, or members, not both",
+          "[ensemble]") {
+  const std::string table =
+      "[ensemble.bullet]\nreason = \"contacts flip\"\n"
+      "quantities = [\"final_com_y\", \"final_shape_rms\"]\n";
+  const std::string detect = "detect = { final_com_y = 0.001, final_shape_rms = 0.002 }\n";
+  {
+    const ScratchFolder dir("clothbench-test-ensemble-");
+    const fs::path p = fs::path(dir.path()) / "tolerances.toml";
+    std::ofstream(p) << tolerance_text(table + detect + "max_seconds = 30\n");
+    const Tolerances t = read_tolerances(p);
+    const Tolerances::Ensemble& e = t.ensemble.at("bullet");
+    CHECK(e.members == 0);
+    CHECK(e.detect.at("final_shape_rms") == 0.002);
+    CHECK(e.max_seconds == 30);
+    std::ofstream(p) << tolerance_text(table + detect);
+    CHECK(read_tolerances(p).ensemble.at("bullet").max_seconds == 60);
+  }
+  CHECK_THAT(refusal(tolerance_text(table + detect + "members = 8\n")),
+             Catch::Contains("not both"));
+  CHECK_THAT(refusal(tolerance_text(table + "detect = { final_com_y = 0.001 }\n")),
+             Catch::Contains("no shift for \"final_shape_rms\""));
+  CHECK_THAT(
+      refusal(tolerance_text(table + "detect = { final_com_y = 0.001, final_shape_rms = 0.002, "
+                                     "steps = 1 }\n")),
+      Catch::Contains("detect.steps: not one of the ensemble's quantities"));
+  for (const char* bad : {"0.0", "-1e-3", "nan", "inf", "\"1 mm\""})
+    CHECK_THAT(refusal(tolerance_text(table + "detect = { final_com_y = " + bad +
+                                      ", final_shape_rms = 0.002 }\n")),
+               Catch::Contains("ensemble.bullet.detect.final_com_y: expected a finite shift > 0"));
+  CHECK_THAT(refusal(tolerance_text(table + detect + "max_seconds = 0\n")),
+             Catch::Contains("max_seconds: expected a time > 0"));
+  CHECK_THAT(refusal(tolerance_text(table + "members = 8\nmax_seconds = 10\n")),
+             Catch::Contains("only with detect"));
+  CHECK_THAT(refusal(tolerance_text(table)), Catch::Contains("no members"));
+}
+
+namespace {
+
+// the members check --update records for a goal, and the note of its final_com_y row
+int recorded_members(const std::string& detect, std::string& note) {
+  const ChainBaseline chain(
+      "[ensemble.custom-symplectic-euler]\nreason = \"test\"\nquantities = [\"final_com_y\"]\n" +
+      detect);
+  CheckOptions o = chain.options;
+  o.update = true;
+  for (const Gate& g : check_scenario(chain.scenario, o))
+    if (g.quantity == "final_com_y (mean)") note = g.note;
+  const int n = int(read_ensemble((chain.base / "metrics_ensemble.csv").string())
+                        .at("custom-symplectic-euler/final_com_y")
+                        .size());
+  // a check runs the recorded members and passes
+  o.update = false;
+  o.ensemble = true;
+  for (const Gate& g : check_scenario(chain.scenario, o)) {
+    INFO(g.quantity << ": " << g.note);
+    CHECK(g.pass);
+  }
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("check --update chooses the members from the spread, within max_seconds", "[ensemble]") {
+  std::string note;
+  // round-off spreads: a millimetre is caught by the fewest members
+  CHECK(recorded_members("detect = { final_com_y = 1e-3 }\n", note) == kMinChosenMembers);
+  CHECK_THAT(note, Catch::Contains("catches a shift of") && Catch::Contains("(goal 0.001)"));
+  CHECK_THAT(note, !Catch::Contains("max_seconds"));
+  // a goal below round-off is out of reach: the cap decides, and the note says so
+  const int capped =
+      recorded_members("detect = { final_com_y = 1e-30 }\nmax_seconds = 1e-9\n", note);
+  CHECK(capped == kMinChosenMembers);
+  CHECK_THAT(note, Catch::Contains("more members would cost over max_seconds = 1e-09 s"));
 }

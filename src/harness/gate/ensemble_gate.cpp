@@ -14,22 +14,22 @@ namespace clothbench {
 
 namespace {
 
-std::string number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
-}
-
 bool all_nan(const std::vector<double>& v) {
   return std::all_of(v.begin(), v.end(), [](double x) { return std::isnan(x); });
 }
 
 }  // namespace
 
+std::string note_number(double v) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.4g", v);
+  return b;
+}
+
 Gate ensemble_gate(const std::string& scenario, const std::string& engine,
                    const std::string& quantity, const std::vector<double>& base,
                    const std::vector<double>& now, double alpha) {
-  Gate g{scenario, engine, quantity, NAN, NAN, NAN, NAN, true, "", "p >= " + number(alpha)};
+  Gate g{scenario, engine, quantity, NAN, NAN, NAN, NAN, true, "", "p >= " + note_number(alpha)};
   if (base.size() < 2 || now.size() < 2) {
     g.pass = false;
     g.note = "ensemble of " + std::to_string(base.size()) + " recorded and " +
@@ -44,12 +44,12 @@ Gate ensemble_gate(const std::string& scenario, const std::string& engine,
   const WelchResult w = welch_test(base, now);
   g.baseline = w.mean_a, g.now = w.mean_b, g.difference = std::abs(w.mean_b - w.mean_a);
   g.pass = w.p >= alpha;
-  g.note = std::isnan(w.p)
-               ? "ensemble: a member's value is not finite"
-               : "ensemble of " + std::to_string(base.size()) + "/" + std::to_string(now.size()) +
-                     ": mean " + number(w.mean_a) + " -> " + number(w.mean_b) + ", sd " +
-                     number(w.sd_a) + " / " + number(w.sd_b) + ", t = " + number(w.t) + " (" +
-                     number(w.dof) + " dof), p = " + number(w.p);
+  g.note = std::isnan(w.p) ? "ensemble: a member's value is not finite"
+                           : "ensemble of " + std::to_string(base.size()) + "/" +
+                                 std::to_string(now.size()) + ": mean " + note_number(w.mean_a) +
+                                 " -> " + note_number(w.mean_b) + ", sd " + note_number(w.sd_a) +
+                                 " / " + note_number(w.sd_b) + ", t = " + note_number(w.t) + " (" +
+                                 note_number(w.dof) + " dof), p = " + note_number(w.p);
   return g;
 }
 

@@ -18,6 +18,9 @@ namespace clothbench {
 /// tested at kEnsembleFalseAlarm / k (Bonferroni).
 constexpr double kEnsembleFalseAlarm = 1e-3;
 
+/// A figure as the ensemble notes print it: 4 significant digits.
+std::string note_number(double v);
+
 /// Members' values by "engine/quantity", in member order (member 0 first).
 using EnsembleValues = std::map<std::string, std::vector<double>>;
 

@@ -16,6 +16,9 @@
 #include <stdexcept>
 
 #include "harness/gate/ensemble_gate.hpp"
+#include "harness/gate/ensemble_runs.hpp"
+#include "harness/gate/ensemble_size.hpp"
+#include "harness/gate/run_figures.hpp"
 #include "harness/gate/test_metrics_gate.hpp"
 #include "harness/gate/tolerances_file.hpp"
 #include "harness/io/csv_reader.hpp"
@@ -70,23 +73,6 @@ std::string ungated_reason(EngineKind kind, const std::string& quantity) {
   if (!info.energy_gated && quantity == "max_energy_error")
     return std::string("not gated: ") + info.energy_note;
   return "";
-}
-
-// the figures of one engine's run that metrics.csv records
-std::map<std::string, double> run_metrics(const RunResult& r, size_t i) {
-  const EngineRun& run = r.runs[i];
-  const std::vector<Divergence>& d = r.divergence[i];
-  double worst = 0;
-  for (const Divergence& x : d) worst = std::max(worst, x.rms_distance);
-  return {{"stable", run.stable ? 1.0 : 0.0},
-          {"steps", double(run.counters.steps)},
-          {"force_evals", double(run.counters.force_evals)},
-          {"cg_iterations", double(run.counters.cg_iterations)},
-          {"max_energy_error", run.max_energy_error},
-          {"final_rms_vs_reference", final_divergence(r, i)},
-          {"max_rms_vs_reference", d.empty() ? NAN : worst},
-          {"drape_coefficient", final_drape_coefficient(r, run)},
-          {"final_com_y", run.frames.back().com.y()}};
 }
 
 // every engine's [test] metrics (tests.csv), none for a scenario without a [test]
@@ -188,11 +174,6 @@ cloth::Matrix3X mirror_image(const cloth::Matrix3X& x, const cloth::Model& m) {
       y.col(j * m.nu + i) = q - 2.0 * (q - c).dot(u) * u;
     }
   return y;
-}
-
-// RMS over particles of the distance between two shapes (m)
-double shape_rms(const cloth::Matrix3X& a, const cloth::Matrix3X& b) {
-  return std::sqrt((a - b).colwise().squaredNorm().mean());
 }
 
 // the engine part of a "engine/quantity" key
@@ -383,64 +364,33 @@ struct CheckRun {
   std::vector<StabilityRow> stability;
   Brackets brackets;
   EnsembleValues ensemble;
+  std::map<std::string, EnsembleChoice> choices;  // update: how the sizes were chosen
 };
 
-/// One ensemble engine's figures in one member: its metrics (final_shape_rms from the
-/// reference shape), and its first and last positions (3 by #P) for the growth exponent.
-struct MemberEnd {
-  std::map<std::string, double> values;
-  cloth::Matrix3X start, end;
-  double t_end = 0;  // s, time of the last frame
-};
-using MemberRun = std::map<std::string, MemberEnd>;  // by engine
-
-MemberRun summarize_member(const RunResult& r, const Tolerances& tol, const Shapes& shapes) {
-  MemberRun out;
-  for (size_t i = 0; i < r.runs.size(); ++i) {
-    const EngineRun& run = r.runs[i];
-    if (!tol.ensemble.count(run.spec.name)) continue;
-    MemberEnd& e = out[run.spec.name];
-    e.values = run_metrics(r, i);
-    const auto it = shapes.find(run.spec.name);
-    e.values["final_shape_rms"] =
-        it == shapes.end() ? NAN : shape_rms(run.snapshots.back(), it->second);
-    e.start = run.snapshots.front(), e.end = run.snapshots.back(), e.t_end = run.frames.back().t;
-  }
-  return out;
+/// The alpha of each of the scenario's ensemble rows: kEnsembleFalseAlarm over them all.
+double ensemble_alpha(const Tolerances& tol) {
+  size_t rows = 0;
+  for (const auto& [engine, e] : tol.ensemble) rows += e.quantities.size();
+  return kEnsembleFalseAlarm / double(rows);
 }
 
-/// The ensembles' values: member 0 is run0, members 1.. run on o.jobs threads (their engines
-/// and the reference only); final_shape_rms is measured from shapes (the recorded ones, or
-/// run0's for an update); plus each engine's growth exponent between members 0 and 1.
-EnsembleValues run_ensemble(const Scenario& sc, const Tolerances& tol, const RunResult& run0,
-                            const Shapes& shapes, const CheckOptions& o) {
-  int members = 0;
-  std::vector<std::string> engines;
-  for (const auto& [engine, e] : tol.ensemble) {
-    members = std::max(members, e.members);
-    engines.push_back(engine);
+/// The ensembles' values: member 0 is now.result, members 1.. run on o.jobs threads (their
+/// engines and the reference only); final_shape_rms is measured from shapes (the recorded
+/// ones, or member 0's for an update). A check runs the recorded or fixed sizes; an update
+/// chooses the sizes of the ensembles with `detect` (ensemble_runs.hpp).
+void run_ensembles(const CheckPlan& plan, const EngineShapes& shapes, const CheckOptions& o,
+                   CheckRun& now) {
+  EnsembleMembers members(plan.sc, plan.tol, now.result, shapes, o.jobs, o.ensemble_seed);
+  EnsembleSizes sizes;
+  if (o.update) {
+    now.choices = choose_sizes(members, plan.tol, ensemble_alpha(plan.tol), o.progress, sizes);
+  } else {
+    const fs::path recorded = plan.dir / "metrics_ensemble.csv";
+    sizes = recorded_sizes(
+        plan.tol, fs::exists(recorded) ? read_ensemble(recorded.string()) : EnsembleValues());
+    members.run_up_to(sizes);
   }
-  std::vector<MemberRun> runs(static_cast<size_t>(members));
-  runs[0] = summarize_member(run0, tol, shapes);
-  run_parallel(members - 1, o.jobs, [&](int k) {
-    RunOptions ro;
-    ro.progress = false;
-    ro.engines = engines;
-    ro.member = k + 1;
-    ro.member_seed = o.ensemble_seed;
-    runs[size_t(k + 1)] = summarize_member(run_scenario(sc, ro), tol, shapes);
-  });
-  // per engine and quantity, the values of its members
-  EnsembleValues values;
-  for (const auto& [engine, e] : tol.ensemble) {
-    for (const std::string& q : e.quantities)
-      for (int m = 0; m < e.members; ++m)
-        values[engine + "/" + q].push_back(runs[size_t(m)].at(engine).values.at(q));
-    const MemberEnd &a = runs[0].at(engine), &b = runs[1].at(engine);
-    values[engine + "/growth_exponent"] = {
-        growth_exponent(a.start, b.start, a.end, b.end, std::min(a.t_end, b.t_end))};
-  }
-  return values;
+  now.ensemble = members.values(sizes);
 }
 
 /// Refuses a perturbed update, loads the scenario and its tolerances (writing the template
@@ -499,7 +449,7 @@ CheckRun run_check(const CheckPlan& plan, const CheckOptions& o) {
       for (const EngineRun& run : now.result.runs) shapes[run.spec.name] = run.snapshots.back();
     else
       shapes = read_shapes(plan.shape_path(), now.result.model);
-    now.ensemble = run_ensemble(plan.sc, plan.tol, now.result, shapes, o);
+    run_ensembles(plan, shapes, o, now);
   }
   return now;
 }
@@ -524,6 +474,24 @@ void test_changes(const std::string& scenario, const TestValues& before, const T
         gates.push_back(
             {scenario, engine, "test." + metric, b, NAN, NAN, NAN, true, "removed", "-"});
     }
+}
+
+/// What an update says of one recorded ensemble row: its size and, where it was chosen, the
+/// shift it catches against the goal and whether the time cap held it back.
+std::string recorded_note(const std::string& key, const std::vector<double>& v,
+                          const std::map<std::string, EnsembleChoice>& choices,
+                          const Tolerances& tol) {
+  std::string note = "ensemble of " + std::to_string(v.size()) + " recorded";
+  const auto c = choices.find(engine_of(key));
+  const std::string q = key.substr(key.rfind('/') + 1);
+  if (c == choices.end() || !c->second.detectable.count(q)) return note;
+  const Tolerances::Ensemble& e = tol.ensemble.at(c->first);
+  note += ": catches a shift of " + note_number(c->second.detectable.at(q)) + " (goal " +
+          note_number(e.detect.at(q)) + ")";
+  if (c->second.capped)
+    note += "; more members would cost over max_seconds = " + note_number(e.max_seconds) + " s (" +
+            note_number(c->second.member_seconds) + " s a member)";
+  return note;
 }
 
 /// --update: records the baseline and reports what changed against the previous one.
@@ -557,7 +525,7 @@ std::vector<Gate> record(const CheckPlan& plan, const CheckRun& now, const Check
     if (it == old_ensemble.end() || it->second != v)
       gates.push_back({plan.sc.name, engine_of(key), key.substr(key.rfind('/') + 1) + " (mean)",
                        it == old_ensemble.end() ? NAN : mean_of(it->second), mean_of(v), NAN, NAN,
-                       true, "ensemble of " + std::to_string(v.size()) + " recorded", "-"});
+                       true, recorded_note(key, v, now.choices, plan.tol), "-"});
   }
   if (!grid_changed.empty())
     gates.push_back({plan.sc.name, "", "final_shape_rms", NAN, NAN, NAN, NAN, true,
@@ -732,23 +700,27 @@ void compare_stability(const CheckPlan& plan, const Brackets& now, GateList& gat
 /// scenario's rows, and each engine's growth exponent for the record.
 void compare_ensembles(const CheckPlan& plan, const CheckRun& now,
                        const std::set<std::string>& recorded, GateList& gates) {
-  size_t rows = 0;
-  for (const auto& [engine, e] : plan.tol.ensemble) rows += e.quantities.size();
-  const double alpha = kEnsembleFalseAlarm / double(rows);
+  const double alpha = ensemble_alpha(plan.tol);
   const EnsembleValues base = read_ensemble((plan.dir / "metrics_ensemble.csv").string());
   for (const auto& [engine, e] : plan.tol.ensemble) {
     if (!recorded.count(engine)) continue;
     for (const std::string& q : e.quantities) {
       const auto it = base.find(engine + "/" + q);
       const std::vector<double> b = it == base.end() ? std::vector<double>() : it->second;
-      if (b.size() != size_t(e.members)) {
+      if (e.members > 0 ? b.size() != size_t(e.members) : b.size() < 2) {
         gates.fail(engine, q, mean_of(b), NAN,
                    "the baseline has " + std::to_string(b.size()) + " members, tolerances.toml " +
-                       std::to_string(e.members) + " (record them with --update)");
+                       (e.members > 0 ? std::to_string(e.members) : std::string("2 or more")) +
+                       " (record them with --update)");
         continue;
       }
-      gates.add(
-          ensemble_gate(plan.sc.name, engine, q, b, now.ensemble.at(engine + "/" + q), alpha));
+      Gate g = ensemble_gate(plan.sc.name, engine, q, b, now.ensemble.at(engine + "/" + q), alpha);
+      // what this gate can catch: the shift at the recorded spread and size
+      const double d = detectable_shift(finite_spread(b), int(b.size()), alpha);
+      if (!std::isnan(d))
+        g.note += "; catches a shift of " + note_number(d) +
+                  (e.detect.count(q) ? " (goal " + note_number(e.detect.at(q)) + ")" : "");
+      gates.add(g);
     }
     const auto g = base.find(engine + "/growth_exponent");
     gates.ungated(engine, "growth_exponent", g == base.end() ? NAN : mean_of(g->second),

@@ -126,7 +126,71 @@ void read_ungated_table(const fs::path& p, const toml::table& u,
   }
 }
 
-/// [ensemble.<engine>]: members and quantities gated by an ensemble, with the reason.
+/// members = N of [ensemble.<engine>] (where): a whole number from 2 to 1000.
+int fixed_members(const fs::path& p, const toml::node& members, const std::string& where) {
+  const std::optional<int64_t> n = members.value_exact<int64_t>();
+  if (!n || *n < 2 || *n > 1000)
+    throw UserError(where_in(p, members, where + ".members") +
+                    "expected a whole number from 2 to 1000, got " + describe(members));
+  return int(*n);
+}
+
+/// detect = { quantity = shift, ... } of [ensemble.<engine>]: a shift > 0 for every quantity
+/// of the ensemble and for no other.
+void read_detect(const fs::path& p, const toml::node& node, const std::string& where,
+                 Tolerances::Ensemble& ens) {
+  const toml::table* d = node.as_table();
+  if (!d)
+    throw UserError(where_in(p, node, where + ".detect") +
+                    "expected { quantity = shift, ... }, the shift of each quantity's mean "
+                    "(in its unit) the gate must catch");
+  for (const auto& [key, v] : *d) {
+    const std::string q(key.str());
+    if (!ens.quantities.count(q))
+      throw UserError(where_in(p, v, where + ".detect." + q) +
+                      "not one of the ensemble's quantities");
+    const std::optional<double> x = v.value<double>();
+    if (!x || !std::isfinite(*x) || !(*x > 0))
+      throw UserError(where_in(p, v, where + ".detect." + q) +
+                      "expected a finite shift > 0 in the quantity's unit, got " + describe(v));
+    ens.detect[q] = *x;
+  }
+  for (const std::string& q : ens.quantities)
+    if (!ens.detect.count(q))
+      throw UserError(where_in(p, node, where + ".detect") + "no shift for \"" + q +
+                      "\" (every quantity of the ensemble needs one)");
+}
+
+/// How many members: `members = N`, or chosen by `check --update` from the recorded spread
+/// and `detect` within `max_seconds`.
+void read_ensemble_size(const fs::path& p, const toml::table& e, const toml::node& node,
+                        const std::string& where, Tolerances::Ensemble& ens) {
+  const toml::node* members = e.get("members");
+  const toml::node* detect = e.get("detect");
+  if (members && detect)
+    throw UserError(where_in(p, *members, where + ".members") +
+                    "give members = N or detect = { ... }, not both (with detect, check "
+                    "--update chooses N from the measured spread)");
+  if (!members && !detect)
+    throw UserError(where_in(p, node, where) +
+                    "no members (expected members = N >= 2, or detect = { quantity = shift, "
+                    "... } for an N chosen from the measured spread)");
+  if (members) {
+    if (e.get("max_seconds"))
+      throw UserError(where_in(p, *e.get("max_seconds"), where + ".max_seconds") +
+                      "only with detect (members = N is not chosen)");
+    ens.members = fixed_members(p, *members, where);
+    return;
+  }
+  read_detect(p, *detect, where, ens);
+  ens.max_seconds = non_negative(p, e, "max_seconds", where + ".", ens.max_seconds);
+  if (!(ens.max_seconds > 0))
+    throw UserError(where_in(p, *e.get("max_seconds"), where + ".max_seconds") +
+                    "expected a time > 0 (s)");
+}
+
+/// [ensemble.<engine>]: members (or how to choose them) and quantities gated by an ensemble,
+/// with the reason.
 void read_ensemble_table(const fs::path& p, const toml::table& u,
                          const std::vector<std::string>& known, Tolerances& t) {
   for (const auto& [engine_key, node] : u) {
@@ -135,15 +199,9 @@ void read_ensemble_table(const fs::path& p, const toml::table& u,
     if (!e)
       throw UserError(where_in(p, node, where) +
                       "expected { members = N, quantities = [...], reason = \"...\" }");
-    require_known_keys(p, *e, where + ".", {"members", "quantities", "reason"});
+    require_known_keys(p, *e, where + ".",
+                       {"members", "detect", "max_seconds", "quantities", "reason"});
     Tolerances::Ensemble& ens = t.ensemble[engine];
-    const toml::node* members = e->get("members");
-    if (!members) throw UserError(where_in(p, node, where) + "no members (expected N >= 2)");
-    const std::optional<int64_t> n = members->value_exact<int64_t>();
-    if (!n || *n < 2 || *n > 1000)
-      throw UserError(where_in(p, *members, where + ".members") +
-                      "expected a whole number from 2 to 1000, got " + describe(*members));
-    ens.members = int(*n);
     ens.reason = (*e)["reason"].value_or(std::string());
     if (ens.reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
     for (const std::string& q : strings_at(p, (*e)["quantities"], where + ".quantities")) {
@@ -156,6 +214,7 @@ void read_ensemble_table(const fs::path& p, const toml::table& u,
       ens.quantities.insert(q);
     }
     if (ens.quantities.empty()) throw UserError(p.string() + ": " + where + ": no quantities");
+    read_ensemble_size(p, *e, node, where, ens);
   }
 }
 

@@ -17,14 +17,18 @@
 /// distribution of its results instead:
 ///
 ///   [ensemble.bullet-softbody-matched]
-///   members = 8                      # N >= 2 runs: member 0 the scene, 1..N-1 perturbed at
-///                                    # round-off level (run/ensemble_member.hpp)
+///   detect = { final_shape_rms = 0.001, final_com_y = 0.001 }  # shifts to catch (units of
+///                                    # the quantity), or members = N (N >= 2) fixed
+///   max_seconds = 60                 # with detect: s of member runs N may cost (default 60)
 ///   quantities = ["final_shape_rms", "final_com_y"]
 ///   reason = "a 1e-13 change of gravity moves its final shape by 16 mm"
 ///
-/// `check --update` records the N members' values (metrics_ensemble.csv); `check --ensemble`
-/// runs the same N members and gates each listed quantity's mean against the recorded mean by
-/// Welch's t-test at false-alarm rate 1e-3 per quantity, Bonferroni-divided over the
+/// The members: member 0 the scene, 1..N-1 perturbed at round-off level
+/// (run/ensemble_member.hpp). With detect, `check --update` chooses N from the members'
+/// measured spread (ensemble_runs.hpp, ensemble_size.hpp) and records it; with members = N it
+/// runs N. `check --update` records the N members' values (metrics_ensemble.csv); `check
+/// --ensemble` runs the same N members and gates each listed quantity's mean against the recorded
+/// mean by Welch's t-test at false-alarm rate 1e-3 per quantity, Bonferroni-divided over the
 /// scenario's ensemble rows (ensemble_gate.hpp). final_shape_rms is, per member, the RMS
 /// distance of its final shape from the recorded shape.csv (member 0's). Without --ensemble
 /// these rows are shown, not gated. A quantity is either listed here or in [ungated.<engine>]
@@ -59,9 +63,13 @@ struct Tolerances {
   std::map<std::string, std::map<std::string, std::string>> ungated;
   // [ensemble.<engine>]: members and quantities gated by the ensemble, with the reason
   struct Ensemble {
-    int members = 0;  // N >= 2
+    int members = 0;  // N >= 2 (members = N), or 0: chosen by check --update from detect
     std::set<std::string> quantities;
     std::string reason;
+    // detect = { quantity = shift }: the shift of each quantity's mean (its unit) the gate is
+    // to catch with probability kEnsemblePower (ensemble_size.hpp)
+    std::map<std::string, double> detect;
+    double max_seconds = 60;  // s of member runs (one core) the chosen ensemble may cost
   };
   std::map<std::string, Ensemble> ensemble;
   // [mirror]: engines whose final shape is compared up to the scene's mirror image
