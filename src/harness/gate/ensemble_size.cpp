@@ -124,8 +124,9 @@ int members_needed(double sd, double shift, double alpha, int n_min, int n_max, 
   if (n_min < 2) n_min = 2;
   if (!(sd >= 0) || !std::isfinite(sd) || !(shift >= 0) || n_max < n_min) return 0;
   if (sd == 0) return n_min;
-  // the detectable shift falls as N grows: bisection on N
-  auto reaches = [&](int n) { return detectable_shift(sd, n, alpha, power) <= shift; };
+  // the power at the goal rises with N (one power per N, not a bisection on the shift):
+  // bisection on N
+  auto reaches = [&](int n) { return welch_power(shift / sd, n, alpha) >= power; };
   if (!reaches(n_max)) return 0;
   if (reaches(n_min)) return n_min;
   int lo = n_min, hi = n_max;  // lo misses, hi reaches
