@@ -8,6 +8,7 @@
 
 #include "harness/gate/ensemble_size.hpp"
 #include "harness/gate/run_figures.hpp"
+#include "harness/gate/welch_test.hpp"
 #include "harness/run/run_parallel.hpp"
 
 namespace clothbench {
@@ -110,12 +111,9 @@ double finite_spread(const std::vector<double>& v) {
   for (double x : v)
     if (std::isfinite(x)) f.push_back(x);
   if (f.size() < 2) return NAN;
-  double mean = 0;
-  for (double x : f) mean += x;
-  mean /= double(f.size());
-  double ss = 0;
-  for (double x : f) ss += (x - mean) * (x - mean);
-  return std::sqrt(ss / double(f.size() - 1));
+  double mean = 0, sd = 0;
+  sample_moments(f, mean, sd);
+  return sd;
 }
 
 namespace {

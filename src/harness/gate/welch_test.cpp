@@ -32,16 +32,6 @@ double beta_fraction(double a, double b, double x) {
   return h;
 }
 
-// mean and sample standard deviation
-void moments(const std::vector<double>& v, double& mean, double& sd) {
-  mean = 0;
-  for (double x : v) mean += x;
-  mean /= double(v.size());
-  double ss = 0;
-  for (double x : v) ss += (x - mean) * (x - mean);
-  sd = std::sqrt(ss / double(v.size() - 1));
-}
-
 }  // namespace
 
 double regularized_incomplete_beta(double a, double b, double x) {
@@ -54,6 +44,15 @@ double regularized_incomplete_beta(double a, double b, double x) {
   // the fraction converges fast on the side of the mean; the other side by symmetry
   if (x < (a + 1.0) / (a + b + 2.0)) return std::exp(ln_front) * beta_fraction(a, b, x) / a;
   return 1.0 - std::exp(ln_front) * beta_fraction(b, a, 1.0 - x) / b;
+}
+
+void sample_moments(const std::vector<double>& v, double& mean, double& sd) {
+  mean = 0;
+  for (double x : v) mean += x;
+  mean /= double(v.size());
+  double ss = 0;
+  for (double x : v) ss += (x - mean) * (x - mean);
+  sd = std::sqrt(ss / double(v.size() - 1));
 }
 
 double student_t_two_sided(double t, double dof) {
@@ -71,8 +70,8 @@ WelchResult welch_test(const std::vector<double>& a, const std::vector<double>& 
     r.t = r.dof = r.p = std::numeric_limits<double>::quiet_NaN();
     return r;
   }
-  moments(a, r.mean_a, r.sd_a);
-  moments(b, r.mean_b, r.sd_b);
+  sample_moments(a, r.mean_a, r.sd_a);
+  sample_moments(b, r.mean_b, r.sd_b);
   const double va = r.sd_a * r.sd_a / double(a.size()), vb = r.sd_b * r.sd_b / double(b.size());
   const double diff = r.mean_b - r.mean_a;
   // no spread on either side: the means are equal or they are not

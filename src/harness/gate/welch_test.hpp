@@ -16,6 +16,9 @@ double regularized_incomplete_beta(double a, double b, double x);
 /// be whole): P(|T| >= |t|) = I_{dof / (dof + t^2)}(dof / 2, 1 / 2).
 double student_t_two_sided(double t, double dof);
 
+/// The mean and the sample standard deviation (n - 1) of v (at least 2 values), in v's unit.
+void sample_moments(const std::vector<double>& v, double& mean, double& sd);
+
 /// What Welch's test says of two samples a and b.
 struct WelchResult {
   double mean_a = 0, mean_b = 0;  // sample means, in the quantity's unit
