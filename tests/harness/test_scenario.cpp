@@ -714,3 +714,62 @@ TEST_CASE("newton = trust-region takes line-search's defaults and refuses what i
   CHECK_THAT(error_of([&] { parse_scenario(head + "clamped_iterations = 3\n", "x.toml"); }),
              Contains("clamped_iterations") && Contains("line-search"));
 }
+
+TEST_CASE(
+    "implicit-euler's default is line-search with the barrier; other integrators keep "
+    "linearized",
+    "[scenario]") {
+  const auto engine = [](const std::string& integrator) {
+    return parse_scenario("[[engine]]\nkind = \"custom\"\nintegrator = \"" + integrator + "\"\n",
+                          "e.toml")
+        .engines.at(0)
+        .solver;
+  };
+  const cloth::SolverOptions implicit = engine("implicit-euler");
+  CHECK(implicit.newton == cloth::NewtonMethod::line_search);
+  CHECK(implicit.contacts == cloth::ContactMode::barrier);
+  CHECK(implicit.newton_iterations == cloth::kLineSearchNewtonIterations);
+  CHECK(implicit.cg_tolerance == cloth::kLineSearchCgTolerance);
+  CHECK(implicit.cg_forcing == cloth::CgForcing::adaptive);
+  // the key is inert for another integrator, whose engine a sweep may turn into implicit-euler:
+  // that one steps linearized, with contacts after the step
+  const cloth::SolverOptions rk4 = engine("rk4");
+  CHECK(rk4.newton == cloth::NewtonMethod::linearized);
+  CHECK(rk4.contacts == cloth::ContactMode::after_step);
+  CHECK(rk4.newton_iterations == 1);
+  // named, linearized is Baraff and Witkin's single solve
+  const cloth::SolverOptions named = parse_scenario(
+                                         "[[engine]]\nkind = \"custom\"\nintegrator = "
+                                         "\"implicit-euler\"\nnewton = \"linearized\"\n",
+                                         "n.toml")
+                                         .engines.at(0)
+                                         .solver;
+  CHECK(named.newton == cloth::NewtonMethod::linearized);
+  CHECK(named.newton_iterations == 1);
+  CHECK(named.contacts == cloth::ContactMode::after_step);
+}
+
+TEST_CASE("every shipped implicit-euler engine names the Newton method of its baseline",
+          "[scenario]") {
+  // a change of the default then moves no baseline (scenarios/, with its subfolders)
+  int engines = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(kSource / "scenarios")) {
+    if (entry.path().extension() != ".toml") continue;
+    const Scenario s = load_scenario(entry.path().string());
+    std::ifstream in(entry.path());
+    std::stringstream text;
+    text << in.rdbuf();
+    // each engine's table: from its [[engine]] line to the next table
+    const std::string t = text.str();
+    for (size_t at = t.find("[[engine]]"); at != std::string::npos;
+         at = t.find("[[engine]]", at + 1)) {
+      const size_t end = t.find("\n[", at + 1);
+      const std::string table = t.substr(at, end == std::string::npos ? end : end - at);
+      if (table.find("integrator = \"implicit-euler\"") == std::string::npos) continue;
+      INFO(entry.path().string() << "\n" << table);
+      CHECK(table.find("\nnewton = ") != std::string::npos);
+      ++engines;
+    }
+  }
+  CHECK(engines >= 20);
+}

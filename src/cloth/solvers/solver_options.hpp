@@ -73,7 +73,16 @@ const std::vector<LinearSolver>& all_linear_solvers();
 const std::vector<CgForcing>& all_cg_forcings();
 const std::vector<ContactMode>& all_contact_modes();
 
-/// Options of the custom engine.
+/// The scenario format's Newton method for an engine that names none: line-search, the mode
+/// measured stable on the fabric_128 example at 1/30 s where the linearized step fails at its
+/// first step (docs/methods.md). SolverOptions{} itself is the linearized step.
+constexpr NewtonMethod kScenarioNewton = NewtonMethod::line_search;
+/// The scenario format's contacts with line-search and trust-region when an engine names none:
+/// the barrier, whose static colliders never do positive work (in-solve's do, methods.md).
+constexpr ContactMode kScenarioLineSearchContacts = ContactMode::barrier;
+
+/// Options of the custom engine. The defaults are the linearized step (Baraff and Witkin); the
+/// scenario format's defaults differ for implicit-euler (kScenarioNewton).
 struct SolverOptions {
   Integrator integrator = Integrator::rk4;
   NewtonMethod newton = NewtonMethod::linearized;  // implicit-euler
@@ -123,7 +132,8 @@ double forcing_for_tolerance(double eta, double residual, double tolerance);
 /// The fraction of the Newton tolerance the last system aims for (Kelley's 0.5).
 constexpr double kOversolveFraction = 0.5;
 
-/// Implicit Euler with newton = line-search and that mode's defaults.
+/// Implicit Euler with newton = line-search, that mode's iteration and forcing defaults and
+/// contacts in the solve (the scenario format's default contacts are kScenarioLineSearchContacts).
 SolverOptions line_search_options(LinearSolver solver = LinearSolver::automatic);
 
 }  // namespace cloth

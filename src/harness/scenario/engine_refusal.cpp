@@ -54,7 +54,8 @@ std::optional<reference::Refusal> barrier_refusal(const cloth::Scene& scene) {
       refusal = reference::Refusal{
           std::string("contacts = \"barrier\" models inelastic contact, but ") + key +
               " has restitution " + cloth::shortest_decimal(c.restitution) +
-              ": set it to 0, or use contacts = \"after-step\"",
+              " (the barrier is line-search's default): set it to 0, or name contacts = "
+              "\"in-solve\" or \"after-step\"",
           {key + ".restitution"},
           {"contacts"}};
     }
@@ -102,7 +103,9 @@ std::optional<reference::Refusal> engine_refusal(const EngineSpec& spec,
                                       "bend_model = \"springs\"",
                                   {"cloth.bend_model"},
                                   {"integrator"}};
-      if (spec.solver.contacts == cloth::ContactMode::barrier) return barrier_refusal(scene);
+      if (i == cloth::Integrator::implicit_euler &&
+          spec.solver.contacts == cloth::ContactMode::barrier)
+        return barrier_refusal(scene);
       return std::nullopt;
     }
     case EngineKind::bullet_deformable: {

@@ -211,17 +211,17 @@ std::string read_line_search_choice(const Reader& r, const At& at, const cloth::
   return value;
 }
 
-/// cg_forcing and contacts: adaptive forcing and contacts in the solve by default with
-/// line-search and trust-region.
+/// cg_forcing and contacts: adaptive forcing and the barrier by default with line-search and
+/// trust-region.
 void read_line_search_keys(const Reader& r, const At& at, cloth::SolverOptions& o) {
   o.cg_forcing = *cloth::parse_cg_forcing(read_line_search_choice(
       r, at, o, "cg_forcing", kCgForcings, cloth::cg_forcing_name(cloth::CgForcing::adaptive),
       cloth::cg_forcing_name(cloth::CgForcing::fixed),
       "the linearized step has no Newton residual to adapt to"));
-  // in-solve by default with line-search and trust-region; in-solve and barrier need one
+  // the barrier by default with line-search and trust-region; in-solve and barrier need one
   const bool line_search = cloth::minimizes_potential(o.newton);
   const cloth::ContactMode fallback =
-      line_search ? cloth::ContactMode::in_solve : cloth::ContactMode::after_step;
+      line_search ? cloth::kScenarioLineSearchContacts : cloth::ContactMode::after_step;
   const std::string value =
       r.choice(at, "contacts", cloth::contact_mode_name(fallback), kContactModes);
   o.contacts = *cloth::parse_contact_mode(value);
@@ -284,8 +284,12 @@ void read_engine_options(const Reader& r, const At& at, EngineSpec& e) {
   switch (e.kind) {
     case EngineKind::custom: {
       cloth::SolverOptions& o = e.solver;
-      o.newton = *cloth::parse_newton_method(
-          r.choice(at, "newton", cloth::newton_method_name(o.newton), kNewtonMethods));
+      // implicit-euler's default is line-search; the key is inert for the other integrators,
+      // which keep the linearized default (so a sweep that swaps in implicit-euler gets it)
+      const bool implicit = o.integrator == cloth::Integrator::implicit_euler;
+      o.newton = *cloth::parse_newton_method(r.choice(
+          at, "newton", cloth::newton_method_name(implicit ? cloth::kScenarioNewton : o.newton),
+          kNewtonMethods));
       // line-search and trust-region: iterations are a limit and linear solves may be inexact
       const bool line_search = cloth::minimizes_potential(o.newton);
       const bool trust_region = o.newton == cloth::NewtonMethod::trust_region;

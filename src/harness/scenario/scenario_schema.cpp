@@ -356,17 +356,19 @@ void shape_keys(std::vector<ScenarioKey>& out) {
 
 void custom_engine_keys(std::vector<ScenarioKey>& out) {
   const cloth::SolverOptions o;
-  const cloth::SolverOptions ls = cloth::line_search_options();  // newton = "line-search"
+  cloth::SolverOptions ls = cloth::line_search_options();  // newton = "line-search", the default
+  ls.contacts = cloth::kScenarioLineSearchContacts;
   const auto both = [](const std::string& linearized, const std::string& line_search) {
-    return linearized + "; line-search, trust-region: " + line_search;
+    return line_search + " (line-search, trust-region); otherwise " + linearized;
   };
   Rows r(out, "engine", engine_kind_name(EngineKind::custom));
   r.choice("integrator", quoted(cloth::integrator_name(o.integrator)), integrator_names(),
            "the time integrator");
-  r.choice("newton", quoted(cloth::newton_method_name(o.newton)), kNewtonMethods,
+  r.choice("newton", quoted(cloth::newton_method_name(cloth::kScenarioNewton)), kNewtonMethods,
            "implicit-euler: Newton steps from the old state, or on the incremental potential "
            "with a line search or in a trust region (Steihaug-Toint CG on the exact Hessian, "
-           "region in the mass norm)");
+           "region in the mass norm); an engine of another integrator that a sweep turns into "
+           "implicit-euler keeps \"linearized\" unless it names newton");
   r.integer("newton_iterations", o.newton_iterations, 1, kNoMax,
             "implicit-euler: Newton iterations per step (line-search, trust-region: a limit)",
             both(std::to_string(o.newton_iterations), std::to_string(ls.newton_iterations)));
