@@ -28,12 +28,17 @@ grep -q '^progress: .*(custom-rk4  t = [0-9.]* / 1.00 s)$' "$work/stderr" ||
   fail "run: no progress line names the engine and its time: $(head -c 400 "$work/stderr")"
 
 # the reference is most of this sweep's steps: its own lines come first, before the sweep's
+# (the reference made from the symplectic engine's options, so it runs another integrator)
 expect 0 "$clothbench" accuracy "$chain" -e custom-symplectic-euler -i symplectic-euler \
-  --set duration=0.5 --halvings 1 --repeats 1 -j 1 -o "$work/accuracy"
+  --set duration=0.5 --set reference=custom-symplectic-euler --halvings 1 --repeats 1 -j 1 \
+  -o "$work/accuracy"
 rises_to_100 "accuracy"
 # (a reference's lines carry its simulated time; the sweep's runs are counted as they end)
 grep -m1 '^progress: ' "$work/stderr" | grep -q ' t = ' ||
   fail "accuracy: the first progress line is not the reference's: $(head -c 600 "$work/stderr")"
+# and names what runs: rk4 at the reference's step, made from the scenario's engine
+grep -m1 '^progress: ' "$work/stderr" | grep -q '(custom-symplectic-euler (rk4, dt = [0-9.e-]* s)  t = ' ||
+  fail "accuracy: the reference's line does not say it is rk4: $(grep -m1 '^progress: ' "$work/stderr")"
 
 [ "$failures" -eq 0 ] || exit 1
 echo "progress in logs: run and accuracy rise to 100 %"

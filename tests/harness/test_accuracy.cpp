@@ -12,6 +12,7 @@
 #include "harness/scenario/scenario_loader.hpp"
 #include "harness/sweeps/accuracy_plan.hpp"
 #include "harness/sweeps/accuracy_sweep.hpp"
+#include "harness/sweeps/sweep.hpp"
 #include "temp_dir.hpp"
 #include "tolerances.hpp"
 
@@ -531,4 +532,20 @@ TEST_CASE("recommendations: a NaN error, cost or tolerance never passes", "[swee
   REQUIRE(rec.size() == 3);
   CHECK(rec[2].found);
   CHECK(rec[2].engine == "custom");
+}
+
+TEST_CASE("a sweep's variant of an engine is labelled with what it runs", "[accuracy]") {
+  // the reference of an accuracy sweep is rk4 made from the scenario's engine: its progress
+  // lines must not call it by that engine's name alone
+  EngineSpec e;
+  e.name = "custom-implicit-euler-30";
+  e.solver.integrator = cloth::Integrator::implicit_euler;
+  e.dt = 1.0 / 30;
+  const EngineSpec reference = with_integrator_and_dt(e, cloth::Integrator::rk4, 8.13e-5);
+  CHECK(reference.name == e.name);  // rerun commands name the scenario's engine
+  CHECK(reference.label == "custom-implicit-euler-30 (rk4, dt = 8.13e-05 s)");
+  CHECK(with_integrator_and_dt(e, cloth::Integrator::implicit_euler, 0.01).label ==
+        "custom-implicit-euler-30 (dt = 0.01 s)");
+  CHECK(with_integrator_and_dt(e, std::nullopt, 0.01).label ==
+        "custom-implicit-euler-30 (dt = 0.01 s)");
 }

@@ -144,8 +144,9 @@ void finish_run(EngineRun& run, const cloth::Simulator& sim, const cloth::Model&
 /// every 5 %, so a long run there is not silent.
 void show_frame(Progress& progress, const Scenario& sc, const EngineSpec& spec,
                 const cloth::Simulator& sim, long long steps) {
-  char label[96];
-  std::snprintf(label, sizeof label, "%s  t = %.2f / %.2f s", spec.name.c_str(), sim.time(),
+  char label[128];
+  const std::string& name = spec.label.empty() ? spec.name : spec.label;
+  std::snprintf(label, sizeof label, "%s  t = %.2f / %.2f s", name.c_str(), sim.time(),
                 sc.duration);
   progress.advance(double(steps), label);
 }

@@ -44,7 +44,8 @@ struct HandleSpec {
 
 /// One engine of a scenario.
 struct EngineSpec {
-  std::string name;  // unique within the scenario
+  std::string name;   // unique within the scenario
+  std::string label;  // what progress lines call it (a sweep's variant); empty: name
   EngineKind kind = EngineKind::custom;
   double dt = 1e-3;                     // s
   cloth::SolverOptions solver;          // kind = custom

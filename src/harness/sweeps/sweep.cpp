@@ -1,5 +1,7 @@
 #include "harness/sweeps/sweep.hpp"
 
+#include <cstdio>
+
 #include "harness/io/csv_writer.hpp"
 
 namespace clothbench {
@@ -9,6 +11,14 @@ EngineSpec with_integrator_and_dt(const EngineSpec& e, std::optional<cloth::Inte
   EngineSpec out = e;
   out.dt = dt;
   if (e.kind == EngineKind::custom && integrator) out.solver.integrator = *integrator;
+  // progress lines say what runs, not only whose engine it was made from
+  char step[32];
+  std::snprintf(step, sizeof step, "dt = %.3g s", dt);
+  const bool swapped =
+      e.kind == EngineKind::custom && integrator && *integrator != e.solver.integrator;
+  out.label = e.name + " (" +
+              (swapped ? std::string(cloth::integrator_name(*integrator)) + ", " : std::string()) +
+              step + ")";
   return out;
 }
 

@@ -12,7 +12,8 @@
 namespace clothbench {
 
 /// One configuration of a sweep: the engine of a scenario with its dt replaced and, for a
-/// custom engine given one, its integrator.
+/// custom engine given one, its integrator; its label (progress lines) says which:
+/// "NAME (INTEGRATOR, dt = DT s)", the integrator only when it changed.
 EngineSpec with_integrator_and_dt(const EngineSpec& e, std::optional<cloth::Integrator> integrator,
                                   double dt);
 
