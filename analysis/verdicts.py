@@ -310,12 +310,14 @@ def best_error(f, rec_row):
 
 def growth_setting(cause):
     """What sets a growth limit, from growth_cause: "contact", "free", "none" (nothing grew
-    past the tolerance) or "" (not said); with " (non-smooth)" when the cause says so."""
+    past the tolerance) or "" (not said); with " (non-smooth)" and " (near the physics)" when
+    the cause says so."""
     cause = str(cause)
     what = ("contact" if cause.startswith("set by contact") else
             "free" if cause.startswith("free") else
             "none" if cause.startswith("no growth") else "")
-    return what + (" (non-smooth)" if "non-smooth" in cause else "")
+    return (what + (" (non-smooth)" if "non-smooth" in cause else "")
+            + (" (near the physics)" if "near the physics" in cause else ""))
 
 
 def _growth_text(r):
@@ -348,6 +350,9 @@ def _growth_text(r):
              "none": ", no growth past the tolerance"}.get(setting.split(" ")[0], "")
     if "non-smooth" in setting:
         text += " (non-smooth: the estimate crosses a contact switch)"
+    if "near the physics" in setting:
+        text += (" (near the physics: the step grows at most 20 % faster than the state's "
+                 "physical rate; compare with the blow-up search)")
     return text
 
 

@@ -17,7 +17,9 @@ CAPTION = ("Largest stable time step per engine and integrator. Top: measured (c
            "lower bound. Where the sweep also measured by growth (--method growth or both), the "
            "square is the largest dt at which no small disturbance grows faster than the "
            "physics lets it (the green triangle above it: the first dt where one does), "
-           "labelled 'contact' when a state in contact sets it; its ratio to the prediction is "
+           "labelled 'contact' when a state in contact sets it and 'near physics' when the "
+           "step grows at most 20 % faster than the physics there (a limit to check against "
+           "the blow-up search); its ratio to the prediction is "
            "the square in the bottom panel. The prediction holds for the free scene, so a "
            "limit set by contact may lie below it.")
 
@@ -147,8 +149,11 @@ def _draw_growth(ax, xg, row, hollow, lab, values):
         ax.annotate("", (xg, meas * 2.0), (xg, meas * 1.12),
                     arrowprops={"arrowstyle": "-|>", "color": "teal", "lw": 1.6})
         values.append(meas * 2.0)
-    if str(row["growth_cause"]).startswith("set by contact"):
-        ax.annotate("contact", (xg, meas), xytext=(0, -14), textcoords="offset points",
+    notes = [word for word, said in
+             (("contact", str(row["growth_cause"]).startswith("set by contact")),
+              ("near physics", "near the physics" in str(row["growth_cause"]))) if said]
+    if notes:
+        ax.annotate("\n".join(notes), (xg, meas), xytext=(0, -14), textcoords="offset points",
                     ha="center", va="top", fontsize=style.FONT - 2, color="teal")
 
 

@@ -39,12 +39,13 @@ def skip_reason(folders):
 
 def short_cause(cause):
     """growth_cause with its numbers to 3 significant digits, cut to about CAUSE_CHARS
-    characters (keeping a 'non-smooth' warning), on one line."""
+    characters (keeping the 'non-smooth' and 'near the physics' warnings), on one line."""
     text = re.sub(r"-?\d+\.\d{4,}(?:[eE][-+]?\d+)?",
                   lambda m: style.fmt(float(m.group(0))), str(cause))
     short = textwrap.shorten(text, CAUSE_CHARS, placeholder=" …")
-    if "non-smooth" in text and "non-smooth" not in short:
-        short += " (non-smooth)"
+    for warning in ("non-smooth", "near the physics"):
+        if warning in text and warning not in short:
+            short += f" ({warning})"
     return short
 
 

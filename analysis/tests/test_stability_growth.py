@@ -245,6 +245,9 @@ class GrowthHelpers(unittest.TestCase):
         self.assertEqual(growth_setting("free: grows at start (1/s)"), "free")
         self.assertEqual(growth_setting("no growth past the tolerance up to dt_max"), "none")
         self.assertEqual(growth_setting("free: non-smooth: ..."), "free (non-smooth)")
+        self.assertEqual(growth_setting("free: grows at 'start' at 33.2/s; near the physics: "
+                                        "no state grows more than 13% faster ..."),
+                         "free (near the physics)")
         self.assertEqual(growth_setting(""), "")
 
     def test_short_cause(self):
@@ -255,6 +258,8 @@ class GrowthHelpers(unittest.TestCase):
         short = short_cause(long)
         self.assertLessEqual(len(short), CAUSE_CHARS + len(" (non-smooth)"))
         self.assertTrue(short.endswith("(non-smooth)"), short)
+        near = "free: " + "word " * 40 + "near the physics: no state grows more than 1% ..."
+        self.assertTrue(short_cause(near).endswith("(near the physics)"), short_cause(near))
 
 
 if __name__ == "__main__":

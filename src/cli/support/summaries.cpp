@@ -45,11 +45,14 @@ std::string ratio_text(double ratio) {
 }
 
 /// What sets a growth limit, in a word: contact, free, bound (nothing grew up to --dt-max),
-/// non-smooth, or "" without a growth measurement.
+/// non-smooth, or "" without a growth measurement; contact and free gain " near physics" when
+/// the verdict is near the physical growth (kNearPhysicalFraction).
 std::string growth_by(const StabilityRow& r) {
   const std::string& c = r.growth.cause;
-  if (c.rfind("set by contact", 0) == 0) return "contact";
-  if (c.rfind("free", 0) == 0) return "free";
+  const std::string near =
+      c.find("; near the physics:") != std::string::npos ? " near physics" : "";
+  if (c.rfind("set by contact", 0) == 0) return "contact" + near;
+  if (c.rfind("free", 0) == 0) return "free" + near;
   if (c.rfind("no growth", 0) == 0) return "bound";
   if (c.rfind("non-smooth", 0) == 0) return "non-smooth";
   return "";

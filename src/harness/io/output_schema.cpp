@@ -41,8 +41,10 @@ const std::vector<OutputColumn>& stability_columns() {
       {"physical_rate", "1/s", "that state's growth rate measured in steps of dt / 8"},
       {"growth_ratio", "1", "growth_stable_dt / predicted_dt when both limits were found"},
       {"growth_cause", "text",
-       "where the growth is: set by contact (only the state in contact grows) or free, and "
-       "states where the step map is not smooth"},
+       "where the growth is: set by contact (only the state in contact grows) or free, "
+       "states where the step map is not smooth, and \"near the physics\" when no unstable "
+       "state grows more than 20 % faster than its physical rate (check such a limit with "
+       "`--method blowup`)"},
       {"mode_structural", "1", "the growing mode's spring energy in structural springs, fraction"},
       {"mode_shear", "1", "the same in shear springs"},
       {"mode_bend", "1", "the same in bend springs"},

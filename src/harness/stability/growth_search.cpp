@@ -79,6 +79,21 @@ StateGrowth judge_state(const Scenario& sc, const EngineSpec& e, const cloth::Mo
   return g;
 }
 
+/// "; near the physics: ..." when the unstable states' excess over their physical rates is at
+/// most kNearPhysicalFraction of their rates (largest_excess), else "".
+std::string near_physics_note(const std::vector<StateGrowth>& unstable) {
+  double fraction = 0;
+  const int i = largest_excess(unstable, &fraction);
+  if (i < 0 || !(fraction <= kNearPhysicalFraction)) return "";
+  const StateGrowth* g = &unstable[size_t(i)];
+  return "; near the physics: no state grows more than " +
+         std::to_string(static_cast<int>(std::ceil(100 * fraction))) +
+         "% faster than its physical rate ('" + g->label + "' at " + format_double(g->rate) +
+         "/s against " + format_double(g->physical_rate) +
+         "/s); the estimates' error or the scheme's accuracy on a growing mode explains that "
+         "as well as a step-size instability: compare with --method blowup";
+}
+
 /// The verdict on a time step: unstable when a smooth state is; none when no state is smooth.
 enum class Verdict { stable, unstable, nonsmooth };
 
@@ -166,17 +181,22 @@ class GrowthSearch {
   /// The limit found; timed_out: the search stopped at its budget.
   GrowthLimit finish(bool timed_out = false) {
     GrowthLimit& l = m_limit;
-    const StateGrowth* worst = nullptr;
-    for (const StateGrowth& g : m_unstable)
+    StateGrowth* worst = nullptr;
+    for (StateGrowth& g : m_unstable)
       if (g.smooth && g.unstable && (!worst || g.rate > worst->rate)) worst = &g;
     if (worst) {
+      // the row's physical rate in full, and the cause's (near_physics_note) with it
+      if (worst->physical_decided) {
+        worst->physical_rate = full_physical_rate(*worst);
+        worst->physical_decided = false;
+      }
       l.growth_rate = worst->rate;
       l.physical_rate = worst->physical_rate;
-      if (worst->physical_decided) l.physical_rate = full_physical_rate(*worst);
       l.mode = worst->estimate.mode;
       const GrowthState& s = state(worst->label);
       l.mode_energy = mode_energy_by_kind(m_model, s.state.x, l.mode);
     }
+    if (!timed_out) measure_largest_excess_in_full();
     l.cause = timed_out ? timeout_cause() : cause();
     return l;
   }
@@ -185,6 +205,19 @@ class GrowthSearch {
   const GrowthState& state(const std::string& label) const {
     return *std::find_if(m_states.begin(), m_states.end(),
                          [&](const GrowthState& s) { return s.label == label; });
+  }
+
+  /// The physical rates near_physics_note compares with, in full: while the state of the
+  /// largest excess has a rate stopped once its side was decided, that one is measured again.
+  void measure_largest_excess_in_full() {
+    double fraction = 0;
+    for (int i = largest_excess(m_unstable, &fraction);
+         i >= 0 && m_unstable[size_t(i)].physical_decided;
+         i = largest_excess(m_unstable, &fraction)) {
+      StateGrowth& g = m_unstable[size_t(i)];
+      g.physical_rate = full_physical_rate(g);
+      g.physical_decided = false;
+    }
   }
 
   /// The physical rate of state g at first_unstable_dt measured in full: one stopped once its
@@ -236,6 +269,7 @@ class GrowthSearch {
       c = "free: grows at " + free_unstable +
           (contact_unstable.empty() ? "" : "; and in contact: " + contact_unstable);
     if (!nonsmooth.empty()) c += "; non-smooth: " + nonsmooth;
+    if (!m_unstable.empty()) c += near_physics_note(m_unstable);
     return c;
   }
 
@@ -252,6 +286,21 @@ class GrowthSearch {
 };
 
 }  // namespace
+
+int largest_excess(const std::vector<StateGrowth>& states, double* fraction) {
+  int worst = -1;
+  *fraction = std::numeric_limits<double>::quiet_NaN();
+  for (size_t i = 0; i < states.size(); ++i) {
+    const StateGrowth& g = states[i];
+    if (!g.smooth || !g.unstable) continue;
+    const double f = (g.rate - std::max(g.physical_rate, 0.0)) / g.rate;
+    if (worst < 0 || f > *fraction) {
+      worst = static_cast<int>(i);
+      *fraction = f;
+    }
+  }
+  return worst;
+}
 
 std::vector<StateGrowth> judge_growth(const Scenario& sc, const EngineSpec& engine,
                                       const cloth::Model& model,
