@@ -5,6 +5,7 @@ Each function returns a list of (heading, [(kind, text), ...]) where kind is "ok
 """
 
 import math
+import re
 
 import numpy as np
 
@@ -351,7 +352,9 @@ def _growth_text(r):
     if "non-smooth" in setting:
         text += " (non-smooth: the estimate crosses a contact switch)"
     if "near the physics" in setting:
-        text += (" (near the physics: the step grows at most 20 % faster than the state's "
+        found = re.search(r"no state grows more than (\d+)% faster", r.get("growth_cause", ""))
+        most = f"{found.group(1)} %" if found else "a fraction"
+        text += (f" (near the physics: the step grows at most {most} faster than the state's "
                  "physical rate; compare with the blow-up search)")
     return text
 

@@ -250,6 +250,16 @@ class GrowthHelpers(unittest.TestCase):
                          "free (near the physics)")
         self.assertEqual(growth_setting(""), "")
 
+    def test_near_the_physics_says_the_rows_percent(self):
+        from analysis.verdicts import _growth_text
+        row = {"growth_stable_dt": 0.01, "growth_first_unstable_dt": 0.011, "predicted_dt": 0.02,
+               "growth_rate": 40.0, "physical_rate": 35.0,
+               "growth_cause": "free: grows at 'start' at 40/s; near the physics: no state "
+                               "grows more than 13% faster than its physical rate ..."}
+        self.assertIn("grows at most 13 % faster", _growth_text(row))
+        row["growth_cause"] = "free: grows at 'start' at 40/s"
+        self.assertNotIn("near the physics", _growth_text(row))
+
     def test_short_cause(self):
         from analysis.plots.stability_mode import CAUSE_CHARS, short_cause
         self.assertEqual(short_cause("free: grows at start (587.6216900373003/s)"),

@@ -24,7 +24,7 @@ namespace clothbench::reference {
 
 namespace {
 
-constexpr const char* kKind = "bullet-deformable";
+constexpr const char* kDeformableKind = "bullet-deformable";
 
 /// One cloth in its own deformable world.
 class BulletDeformableCloth final : public BulletCloth {
@@ -140,7 +140,7 @@ bool edge_connected(const std::vector<cloth::Triangle>& triangles) {
 
 /// What self-collision needs of the options and the scene (with it on), or nullopt.
 std::optional<Refusal> self_collision_refusal(const BulletOptions& o, const cloth::Scene& scene) {
-  const std::string who = std::string(kKind) + ": ";
+  const std::string who = std::string(kDeformableKind) + ": ";
   if (!(o.repulsion_stiffness >= 0.0) || !std::isfinite(o.repulsion_stiffness))
     return Refusal{who + "repulsion_stiffness must be finite and not negative, got " +
                        cloth::toml_double(o.repulsion_stiffness) + " N/m",
@@ -186,12 +186,12 @@ double self_collision_margin(const BulletOptions& options, const cloth::Scene& s
 }
 
 std::optional<Refusal> deformable_refusal(const BulletOptions& o, const cloth::Scene& scene) {
-  if (auto refusal = bullet_scene_refusal(scene, kKind)) return refusal;
+  if (auto refusal = bullet_scene_refusal(scene, kDeformableKind)) return refusal;
   // Bullet 3.24 builds the face tree (initializeFaceTree, on the first step because SDF_RD is
   // on) by merging faces that share an edge until one node is left (buildTreeBottomUp,
   // btSoftBody.cpp:29-124): with two or more edge-connected pieces that loop never ends
   if (scene.mesh && !edge_connected(scene.mesh->triangles))
-    return Refusal{std::string(kKind) +
+    return Refusal{std::string(kDeformableKind) +
                        " cannot model this mesh: its triangles are not one piece joined by "
                        "shared edges, and Bullet 3.24's deformable body then never finishes "
                        "building its face tree (the first step hangs); join the pieces or run "
@@ -205,7 +205,7 @@ std::optional<Refusal> deformable_refusal(const BulletOptions& o, const cloth::S
   // measured with Bullet 3.24: with no elastic link its solver never finishes a first step
   // (explicit and implicit alike, bend links or not, 15 s and counting, Ctrl-C unheard)
   if (!(c.k_structural > 0) && !has_shear)
-    return Refusal{std::string(kKind) +
+    return Refusal{std::string(kDeformableKind) +
                        " cannot model this scene: the cloth has no structural or shear springs, "
                        "and Bullet's deformable solver never finishes a step without them (give "
                        "cloth.stiffness a structural or shear stiffness, or run this scene on "
@@ -214,7 +214,7 @@ std::optional<Refusal> deformable_refusal(const BulletOptions& o, const cloth::S
                    {}};
   if (c.k_structural > 0 && has_shear && c.k_structural != c.k_shear)
     return Refusal{
-        std::string(kKind) +
+        std::string(kDeformableKind) +
             " cannot model this scene: its mass-spring force has one stiffness for structural "
             "and shear springs, but cloth.stiffness has structural = " +
             cloth::toml_double(c.k_structural) + " and shear = " + cloth::toml_double(c.k_shear) +
@@ -222,7 +222,7 @@ std::optional<Refusal> deformable_refusal(const BulletOptions& o, const cloth::S
         {"cloth.stiffness.structural", "cloth.stiffness.shear"},
         {}};
   if (o.line_search && !o.implicit)
-    return Refusal{std::string(kKind) +
+    return Refusal{std::string(kDeformableKind) +
                        ": line_search only applies to the implicit scheme; set implicit = true or "
                        "line_search = false",
                    {},
@@ -231,7 +231,7 @@ std::optional<Refusal> deformable_refusal(const BulletOptions& o, const cloth::S
   // loop solves with node-sized vectors while its matrix product writes the multiplier rows
   // after them (btDeformableBackwardEulerObjective::multiply); the seed scene goes unstable
   if (o.implicit && !o.projection)
-    return Refusal{std::string(kKind) +
+    return Refusal{std::string(kDeformableKind) +
                        ": the implicit scheme needs projection = true (without it Bullet 3.24's "
                        "Newton solve writes its Lagrange-multiplier rows past the end of "
                        "node-sized vectors)",

@@ -16,7 +16,7 @@ namespace clothbench::reference {
 
 namespace {
 
-constexpr const char* kKind = "bullet-softbody";
+constexpr const char* kSoftbodyKind = "bullet-softbody";
 
 /// One cloth in its own classic soft-rigid world.
 class BulletSoftBodyCloth final : public BulletCloth {
@@ -117,8 +117,8 @@ class BulletSoftBodyCloth final : public BulletCloth {
 
 std::optional<Refusal> softbody_refusal(const BulletOptions& o, double dt,
                                         const cloth::Scene& scene) {
-  if (auto refusal = bullet_scene_refusal(scene, kKind)) return refusal;
-  const std::string who = std::string(kKind) + ": ";
+  if (auto refusal = bullet_scene_refusal(scene, kSoftbodyKind)) return refusal;
+  const std::string who = std::string(kSoftbodyKind) + ": ";
   if (o.stiffness == SoftbodyStiffness::klst && !(o.klst > 0.0 && o.klst <= 1.0))
     return Refusal{who + "klst must be in (0, 1], got " + cloth::toml_double(o.klst), {}, {"klst"}};
   if (o.iterations < 1)

@@ -7,6 +7,7 @@
 #include "cloth/analysis/linear_stability.hpp"
 #include "cloth/forces/energies.hpp"
 #include "cloth/model/model.hpp"
+#include "harness/io/output_schema.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/runner.hpp"
 #include "harness/scenario/scenario_loader.hpp"
@@ -362,6 +363,18 @@ TEST_CASE("the largest excess over the physical rate is that of an unstable smoo
   // a decaying physics counts as no growth: the whole rate is excess
   CHECK(largest_excess({state("start", 10.0, -40.0, true)}, &f) == 0);
   CHECK(f == Approx(1.0).epsilon(1e-12));
+}
+
+TEST_CASE("stability.csv's growth_cause states the near-the-physics fraction the search uses",
+          "[stability][growth]") {
+  const std::string percent = std::to_string(std::lround(100 * kNearPhysicalFraction)) + " %";
+  bool found = false;
+  for (const OutputColumn& c : output_file("stability.csv").columns)
+    if (std::string(c.name) == "growth_cause") {
+      found = true;
+      CHECK_THAT(c.meaning, Catch::Contains("more than " + percent + " faster"));
+    }
+  CHECK(found);
 }
 
 TEST_CASE("a mode's spring energy is split by spring kind", "[stability][growth]") {

@@ -23,21 +23,21 @@ constexpr int kRingCap = 256;
 constexpr long long kWorkPerElement = 1024;
 constexpr long long kWorkFloor = 1LL << 22;
 
-struct Box {
+struct Aabb {
   Vector3 lo, hi;
 };
 
-Box box_of(const Vector3& a, const Vector3& b) {
+Aabb box_of(const Vector3& a, const Vector3& b) {
   return {a.cwiseMin(b), a.cwiseMax(b)};
 }
 
-bool overlap(const Box& a, const Box& b) {
+bool overlap(const Aabb& a, const Aabb& b) {
   return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
 }
 
 /// True when the boxes come closer than r (> 0): the Euclidean distance between them, which no
 /// pair of their points undercuts, is below r. Squared, with an early exit per axis.
-inline bool closer_than(const Box& a, const Box& b, double r) {
+inline bool closer_than(const Aabb& a, const Aabb& b, double r) {
   double gap2 = 0;
   for (int k = 0; k < 3; ++k) {
     const double gap = std::max(a.lo[k] - b.hi[k], b.lo[k] - a.hi[k]);
@@ -66,7 +66,7 @@ struct CellRange {
   bool too_many = false;
 };
 
-CellRange cell_range(const Box& b, double r, double h) {
+CellRange cell_range(const Aabb& b, double r, double h) {
   CellRange c;
   std::int64_t count = 1;
   for (int k = 0; k < 3; ++k) {
@@ -155,7 +155,7 @@ double median_edge_length(const std::vector<std::array<int, 2>>& edges, const Ma
 struct SelfIntersectionMeter::Grid {
   double h = 1;
   std::size_t mask = 0;
-  std::vector<Box> tri_box;      // #T
+  std::vector<Aabb> tri_box;     // #T
   std::vector<int> start, item;  // bucket b holds item[start[b] .. start[b + 1])
   std::vector<int> big;          // triangles spanning too many cells, checked by every query
 };
@@ -179,7 +179,7 @@ struct SelfIntersectionMeter::Search {
   /// Calls f(t) once for every triangle whose box may overlap the box b inflated by r;
   /// false when the budget ran out.
   template <class F>
-  bool visit(const Box& b, double r, int query, F&& f) {
+  bool visit(const Aabb& b, double r, int query, F&& f) {
     const CellRange c = cell_range(b, r, grid.h);
     const auto once = [&](int t) {
       ++work;
@@ -330,9 +330,9 @@ void SelfIntersectionMeter::edge_triangle(Search& s, int e, int t, bool marked,
                                           bool want_cross) const {
   const int p = m_edges[e][0], q = m_edges[e][1];
   const Vector3 xp = s.p(p), xq = s.p(q);
-  const Box eb = box_of(xp, xq);
+  const Aabb eb = box_of(xp, xq);
   const Triangle& tri = m_triangles[t];
-  const Box& tb = s.grid.tri_box[t];
+  const Aabb& tb = s.grid.tri_box[t];
   const auto near = [&](int u) {
     return marked ? s.near[u] == e : within_two_rings(p, u) || within_two_rings(q, u);
   };
@@ -369,7 +369,7 @@ void SelfIntersectionMeter::vertex_triangle(Search& s, int v, const std::vector<
   const auto near = [&](int u) { return marked ? marks[u] == query : within_two_rings(v, u); };
   if (!(s.best > 0) || near(tri[0]) || near(tri[1]) || near(tri[2])) return;
   const Vector3 xv = s.p(v);
-  if (!closer_than(Box{xv, xv}, s.grid.tri_box[t], s.best)) return;
+  if (!closer_than(Aabb{xv, xv}, s.grid.tri_box[t], s.best)) return;
   const double d = point_triangle_distance(xv, s.p(tri[0]), s.p(tri[1]), s.p(tri[2]));
   if (d < s.best) s.best = d;
 }
@@ -378,7 +378,7 @@ void SelfIntersectionMeter::edge_pass(Search& s) const {
   for (int e = 0; e < static_cast<int>(m_edges.size()) && !s.exhausted; ++e) {
     const int p = m_edges[e][0], q = m_edges[e][1];
     const Vector3 xp = s.p(p), xq = s.p(q);
-    const Box eb = box_of(xp, xq);
+    const Aabb eb = box_of(xp, xq);
     // a collapsed edge crosses nothing; with best == 0 no distance can improve
     const bool want_cross = xp != xq;
     if (!want_cross && !(s.best > 0)) continue;
@@ -393,7 +393,7 @@ void SelfIntersectionMeter::edge_pass(Search& s) const {
     s.visit(eb, s.best, e, [&](int t) {
       // a triangle whose box neither overlaps the edge's nor comes within best of it can
       // neither be crossed nor come closer to the edge or its ends
-      const Box& tb = s.grid.tri_box[t];
+      const Aabb& tb = s.grid.tri_box[t];
       if (!overlap(eb, tb) && !(s.best > 0 && closer_than(eb, tb, s.best))) return;
       edge_triangle(s, e, t, marked, want_cross);
       for (int k = 0; k < 2; ++k)
@@ -409,7 +409,7 @@ void SelfIntersectionMeter::vertex_pass(Search& s) const {
     if (m_adj_start[v + 1] > m_adj_start[v]) continue;
     const Vector3 xv = s.p(v);
     const bool marked = mark_ring(s.near, offset + v, v);
-    s.visit(Box{xv, xv}, s.best, offset + v,
+    s.visit(Aabb{xv, xv}, s.best, offset + v,
             [&](int t) { vertex_triangle(s, v, s.near, offset + v, marked, t); });
   }
 }
@@ -453,7 +453,7 @@ SelfIntersection SelfIntersectionMeter::measure(const Matrix3X& x,
   // count the entries of each bucket, then fill them
   for (std::size_t t = 0; t < tri_count; ++t) {
     const Triangle& tri = m_triangles[t];
-    Box b = box_of(x.col(tri[0]), x.col(tri[1]));
+    Aabb b = box_of(x.col(tri[0]), x.col(tri[1]));
     b.lo = b.lo.cwiseMin(Vector3(x.col(tri[2])));
     b.hi = b.hi.cwiseMax(Vector3(x.col(tri[2])));
     g.tri_box[t] = b;

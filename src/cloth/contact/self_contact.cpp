@@ -34,7 +34,7 @@ constexpr double kPruneMargin = 1.01;
 /// activate() sorts the candidates near enough when they are at most 1 / kFewActive of all.
 constexpr std::size_t kFewActive = 8;
 
-struct Box {
+struct Aabb {
   Vector3 lo, hi;
 };
 
@@ -48,7 +48,7 @@ std::int64_t cell_of(double q) {
   return static_cast<std::int64_t>(std::clamp(std::floor(q), -kCellClamp, kCellClamp));
 }
 
-CellRange cell_range(const Box& b, double cell) {
+CellRange cell_range(const Aabb& b, double cell) {
   CellRange c;
   std::int64_t count = 1;
   for (int k = 0; k < 3; ++k) {
@@ -76,7 +76,7 @@ void for_each_cell(const CellRange& c, F&& f) {
       for (std::int64_t k = c.lo[2]; k <= c.hi[2]; ++k) f(i, j, k);
 }
 
-bool overlap(const Box& a, const Box& b) {
+bool overlap(const Aabb& a, const Aabb& b) {
   return (a.lo.array() <= b.hi.array()).all() && (b.lo.array() <= a.hi.array()).all();
 }
 
@@ -86,10 +86,10 @@ bool overlap(const Box& a, const Box& b) {
 bool near_pair(PairKind kind, const std::array<int, 4>& q, const Matrix3X& a, const Matrix3X& b,
                double pad) {
   const int split = kind == PairKind::kVertexTriangle ? 1 : 2;
-  Box one{a.col(q[0]).cwiseMin(b.col(q[0])), a.col(q[0]).cwiseMax(b.col(q[0]))};
-  Box two{a.col(q[split]).cwiseMin(b.col(q[split])), a.col(q[split]).cwiseMax(b.col(q[split]))};
+  Aabb one{a.col(q[0]).cwiseMin(b.col(q[0])), a.col(q[0]).cwiseMax(b.col(q[0]))};
+  Aabb two{a.col(q[split]).cwiseMin(b.col(q[split])), a.col(q[split]).cwiseMax(b.col(q[split]))};
   for (int i = 1; i < 4; ++i) {
-    Box& into = i < split ? one : two;
+    Aabb& into = i < split ? one : two;
     if (i == split) continue;
     into.lo = into.lo.cwiseMin(a.col(q[i]).cwiseMin(b.col(q[i])));
     into.hi = into.hi.cwiseMax(a.col(q[i]).cwiseMax(b.col(q[i])));
@@ -106,7 +106,7 @@ struct BoxHash {
   std::vector<int> start, item, big, fill;
   std::vector<CellRange> ranges;
 
-  void build(const std::vector<Box>& boxes, double cell_size) {
+  void build(const std::vector<Aabb>& boxes, double cell_size) {
     cell = cell_size;
     std::size_t table = 1;
     while (table < 2 * boxes.size()) table *= 2;
@@ -138,7 +138,7 @@ struct BoxHash {
 
   /// Calls f(t) once for every element whose cells the box q shares (or that is too big).
   template <class F>
-  void visit(const Box& q, std::vector<int>& stamp, int query, F&& f) const {
+  void visit(const Aabb& q, std::vector<int>& stamp, int query, F&& f) const {
     const auto once = [&](int t) {
       if (stamp[t] == query) return;
       stamp[t] = query;
@@ -368,13 +368,13 @@ int find_root(std::vector<int>& parent, int v) {
 
 /// Buffers of the broad phase and its candidates, kept between calls.
 struct SelfContact::Scratch {
-  std::vector<Box> vert_box;           // #P boxes around the anchors' balls (m)
-  Matrix3X anchor;                     // 3 by #P positions the candidates were built at (m)
-  std::vector<double> radius;          // #P the candidates hold while every vertex stays
-                                       // this close to its anchor (m)
-  std::vector<double> disp;            // #P distance of the current path from the anchor (m)
-  std::vector<Box> tri_box, edge_box;  // element boxes, unions of their vertices' (m)
-  std::vector<double> sizes;           // triangle box extents, for the cell size
+  std::vector<Aabb> vert_box;           // #P boxes around the anchors' balls (m)
+  Matrix3X anchor;                      // 3 by #P positions the candidates were built at (m)
+  std::vector<double> radius;           // #P the candidates hold while every vertex stays
+                                        // this close to its anchor (m)
+  std::vector<double> disp;             // #P distance of the current path from the anchor (m)
+  std::vector<Aabb> tri_box, edge_box;  // element boxes, unions of their vertices' (m)
+  std::vector<double> sizes;            // triangle box extents, for the cell size
   BoxHash tri_hash, edge_hash;
   std::vector<int> tri_stamp, edge_stamp;
   std::vector<ProximityPair> pairs;  // candidates of the last collect_pairs, sorted
@@ -521,16 +521,16 @@ bool SelfContact::excluded(PairKind kind, const std::array<int, 4>& q, bool ring
 }
 
 void SelfContact::collect_pairs(double pad, bool rings, Scratch& s) const {
-  const auto merge = [](Box& into, const Box& other) {
+  const auto merge = [](Aabb& into, const Aabb& other) {
     into.lo = into.lo.cwiseMin(other.lo);
     into.hi = into.hi.cwiseMax(other.hi);
   };
   // the triangles' and edges' boxes from their vertices'
-  const std::vector<Box>& vb = s.vert_box;
+  const std::vector<Aabb>& vb = s.vert_box;
   s.tri_box.resize(m_triangles.size());
   s.sizes.resize(m_triangles.size());
   for (std::size_t t = 0; t < m_triangles.size(); ++t) {
-    Box box = vb[m_triangles[t][0]];
+    Aabb box = vb[m_triangles[t][0]];
     merge(box, vb[m_triangles[t][1]]);
     merge(box, vb[m_triangles[t][2]]);
     s.tri_box[t] = box;
@@ -538,7 +538,7 @@ void SelfContact::collect_pairs(double pad, bool rings, Scratch& s) const {
   }
   s.edge_box.resize(m_edges.size());
   for (std::size_t e = 0; e < m_edges.size(); ++e) {
-    Box box = vb[m_edges[e][0]];
+    Aabb box = vb[m_edges[e][0]];
     merge(box, vb[m_edges[e][1]]);
     s.edge_box[e] = box;
   }
@@ -555,7 +555,7 @@ void SelfContact::collect_pairs(double pad, bool rings, Scratch& s) const {
   s.tri_stamp.assign(m_triangles.size(), -1);
   s.edge_stamp.assign(m_edges.size(), -1);
   s.pairs.clear();
-  const auto inflate = [&](Box box) {
+  const auto inflate = [&](Aabb box) {
     box.lo.array() -= pad;
     box.hi.array() += pad;
     return box;
@@ -568,7 +568,7 @@ void SelfContact::collect_pairs(double pad, bool rings, Scratch& s) const {
   };
   // vertices against triangles, then edges against edges of higher index
   for (int v = 0; v < m_count; ++v) {
-    const Box box = inflate(vb[v]);
+    const Aabb box = inflate(vb[v]);
     const std::size_t first = s.pairs.size();
     s.tri_hash.visit(box, s.tri_stamp, v, [&](int t) {
       const Triangle& tri = m_triangles[t];
@@ -579,7 +579,7 @@ void SelfContact::collect_pairs(double pad, bool rings, Scratch& s) const {
     sort_from(first);
   }
   for (int e = 0; e < static_cast<int>(m_edges.size()); ++e) {
-    const Box box = inflate(s.edge_box[e]);
+    const Aabb box = inflate(s.edge_box[e]);
     const std::size_t first = s.pairs.size();
     s.edge_hash.visit(box, s.edge_stamp, e, [&](int f) {
       const std::array<int, 4> q = {m_edges[e][0], m_edges[e][1], m_edges[f][0], m_edges[f][1]};
@@ -612,7 +612,7 @@ std::int64_t SelfContact::update_candidates(const Matrix3X& a, const Matrix3X& b
     s.max_disp = std::max(s.max_disp, s.disp[v]);
     s.radius[v] = kRadiusFloor * m_params.thickness + kSlackSteps * s.disp[v];
     if (!std::isfinite(s.radius[v])) s.radius[v] = kRadiusFloor * m_params.thickness;
-    s.vert_box[v] = Box{a.col(v).array() - s.radius[v], a.col(v).array() + s.radius[v]};
+    s.vert_box[v] = Aabb{a.col(v).array() - s.radius[v], a.col(v).array() + s.radius[v]};
   }
   collect_pairs(m_params.thickness, !m_params.near_collisions, s);
   s.cached = true;
@@ -658,7 +658,7 @@ std::vector<ProximityPair> SelfContact::proximities(const Matrix3X& x) const {
                                 std::to_string(m_count) + " particles");
   Scratch s;
   s.vert_box.resize(static_cast<std::size_t>(m_count));
-  for (int v = 0; v < m_count; ++v) s.vert_box[v] = Box{x.col(v), x.col(v)};
+  for (int v = 0; v < m_count; ++v) s.vert_box[v] = Aabb{x.col(v), x.col(v)};
   collect_pairs(m_params.thickness, true, s);
   std::vector<ProximityPair> out;
   Vector3 p[4];

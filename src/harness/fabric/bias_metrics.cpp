@@ -8,14 +8,15 @@
 
 #include <Eigen/Dense>
 
+#include "cloth/model/constants.hpp"
 #include "harness/fabric/tensile_metrics.hpp"
 
 namespace clothbench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
+using cloth::kNaN;
+using cloth::kPi;
 constexpr double kDegree = kPi / 180.0;
 
 /// The extent of the rest coordinates along dir: its lowest and highest.

@@ -4,14 +4,15 @@
 #include <limits>
 #include <stdexcept>
 
+#include "cloth/model/constants.hpp"
 #include "harness/fabric/elastica.hpp"
 
 namespace clothbench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
+using cloth::kNaN;
+using cloth::kPi;
 
 /// Centroid of the current positions of the particles whose rest x is within tol of at.
 cloth::Vector3 column_centroid(const cloth::Matrix3X& x0, const cloth::Matrix3X& x,

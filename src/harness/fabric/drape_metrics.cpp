@@ -4,12 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include "cloth/model/constants.hpp"
 
 namespace clothbench {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using cloth::kPi;
 
 /// An orthonormal basis (e1, e2) of the plane normal to gravity.
 void horizontal_basis(const cloth::Vector3& gravity, cloth::Vector3* e1, cloth::Vector3* e2) {

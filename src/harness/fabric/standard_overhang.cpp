@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cmath>
 
+#include "cloth/model/constants.hpp"
 #include "harness/fabric/elastica.hpp"
 
 namespace clothbench {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using cloth::kPi;
 
 /// The index of the candidate overhang nearest l (m).
 long nearest(const std::vector<double>& overhangs, double l) {

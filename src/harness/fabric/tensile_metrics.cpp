@@ -4,12 +4,13 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include "cloth/model/constants.hpp"
 
 namespace clothbench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using cloth::kNaN;
 
 /// The middle of the gap between sorted rest coordinates s nearest to at.
 double gap_middle(std::vector<double> s, double at) {

@@ -5,14 +5,15 @@
 #include <limits>
 #include <vector>
 
+#include "cloth/model/constants.hpp"
 #include "harness/gate/welch_test.hpp"
 
 namespace clothbench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-constexpr double kPi = 3.14159265358979323846;
+using cloth::kNaN;
+using cloth::kPi;
 
 /// t with P(|T| >= t) = alpha for Student's t with dof degrees of freedom, by bisection.
 double two_sided_critical(double alpha, double dof) {

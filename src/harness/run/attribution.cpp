@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include "cloth/model/constants.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/user_error.hpp"
@@ -12,7 +13,7 @@ namespace clothbench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using cloth::kNaN;
 constexpr const char* kNoScheme =
     "position-based dynamics: no custom time scheme matches it, so its distance is not split";
 

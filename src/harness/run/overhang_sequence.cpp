@@ -4,13 +4,14 @@
 #include <cmath>
 #include <memory>
 
+#include "cloth/model/constants.hpp"
 #include "harness/fabric/cantilever_metrics.hpp"
 
 namespace clothbench {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using cloth::kPi;
 constexpr double kSameColumn = 1e-9;  // m: rest x within this is one column
 
 /// The chord angle (deg) of positions x (3 by #P, m) with the platform held up to edge.

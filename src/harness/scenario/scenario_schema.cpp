@@ -21,7 +21,7 @@ using cloth::shortest_decimal;
 
 constexpr long long kNoMax = std::numeric_limits<int>::max();
 
-std::string vec3(const cloth::Vector3& v) {
+std::string vector_text(const cloth::Vector3& v) {
   return "[" + shortest_decimal(v.x()) + ", " + shortest_decimal(v.y()) + ", " +
          shortest_decimal(v.z()) + "]";
 }
@@ -78,7 +78,7 @@ class Rows {
   }
   /// A point or vector [x, y, z] of any finite numbers.
   void vector(const char* key, const char* unit, const cloth::Vector3& def, const char* meaning) {
-    other(key, "[x, y, z]", unit, vec3(def), "any finite numbers", meaning);
+    other(key, "[x, y, z]", unit, vector_text(def), "any finite numbers", meaning);
   }
   /// Anything else: type, unit, default and range as text.
   void other(const char* key, const char* type, const char* unit, const std::string& def,
@@ -130,7 +130,7 @@ void top_keys(std::vector<ScenarioKey>& out) {
            "a run is unstable once its energy error exceeds this times the run's energy scale");
   r.other("reference", "string", "", "the first engine", "an engine's name",
           "the engine the others are compared against");
-  r.other("gravity", "[x, y, z]", "m/s^2", vec3(scene.gravity),
+  r.other("gravity", "[x, y, z]", "m/s^2", vector_text(scene.gravity),
           std::string(kAcceleration.text) + " each", "gravitational acceleration");
   r.vector("wind", "m/s", scene.wind, "air velocity; needs cloth.air_drag > 0");
   r.other("cloth", "table", "", "the default cloth", "",
@@ -331,19 +331,20 @@ void shape_keys(std::vector<ScenarioKey>& out) {
   const cloth::HalfSpace plane;
   Rows p(out, "plane");
   p.vector("point", "m", plane.point, "a point on the plane at t = 0");
-  p.other("normal", "[x, y, z]", "1", vec3(plane.normal), "non-zero",
+  p.other("normal", "[x, y, z]", "1", vector_text(plane.normal), "non-zero",
           "normal out of the solid (normalised)");
   collider_keys(out, "plane");
   const cloth::Box box;
   Rows b(out, "box");
   b.vector("center", "m", box.center, "centre at t = 0");
-  b.other("half_extents", "[x, y, z]", "m", vec3(box.half_extents),
+  b.other("half_extents", "[x, y, z]", "m", vector_text(box.half_extents),
           std::string(kLength.text) + " each", "half the box's size along each axis");
   collider_keys(out, "box");
   const cloth::Capsule capsule;
   Rows c(out, "capsule");
   c.vector("a", "m", capsule.a, "one end of the axis at t = 0");
-  c.other("b", "[x, y, z]", "m", vec3(capsule.b), "different from a", "the other end of the axis");
+  c.other("b", "[x, y, z]", "m", vector_text(capsule.b), "different from a",
+          "the other end of the axis");
   c.number("radius", "m", capsule.radius, kLength, "radius around the axis");
   collider_keys(out, "capsule");
   const cloth::Cylinder cylinder;

@@ -186,10 +186,7 @@ class GrowthSearch {
       if (g.smooth && g.unstable && (!worst || g.rate > worst->rate)) worst = &g;
     if (worst) {
       // the row's physical rate in full, and the cause's (near_physics_note) with it
-      if (worst->physical_decided) {
-        worst->physical_rate = full_physical_rate(*worst);
-        worst->physical_decided = false;
-      }
+      measure_in_full(*worst);
       l.growth_rate = worst->rate;
       l.physical_rate = worst->physical_rate;
       l.mode = worst->estimate.mode;
@@ -213,25 +210,23 @@ class GrowthSearch {
     double fraction = 0;
     for (int i = largest_excess(m_unstable, &fraction);
          i >= 0 && m_unstable[size_t(i)].physical_decided;
-         i = largest_excess(m_unstable, &fraction)) {
-      StateGrowth& g = m_unstable[size_t(i)];
-      g.physical_rate = full_physical_rate(g);
-      g.physical_decided = false;
-    }
+         i = largest_excess(m_unstable, &fraction))
+      measure_in_full(m_unstable[size_t(i)]);
   }
 
-  /// The physical rate of state g at first_unstable_dt measured in full: one stopped once its
-  /// side was decided is only that precise (an engine that fails keeps that one).
-  double full_physical_rate(const StateGrowth& g) {
+  /// Measures state g's physical rate at first_unstable_dt in full when it was stopped once its
+  /// side was decided (it is only that precise); an engine that fails keeps the stopped one.
+  void measure_in_full(StateGrowth& g) {
+    if (!g.physical_decided) return;
     cloth::GrowthOptions go;
     go.perturbation = m_o.perturbation;
     try {
-      return physical_growth(m_sc, m_e, m_model, state(g.label), m_limit.first_unstable_dt, go,
-                             &m_limit.steps)
-          .rate;
+      g.physical_rate = physical_growth(m_sc, m_e, m_model, state(g.label),
+                                        m_limit.first_unstable_dt, go, &m_limit.steps)
+                            .rate;
     } catch (const cloth::EngineFailure&) {
-      return g.physical_rate;
     }
+    g.physical_decided = false;
   }
 
   /// A search stopped by its budget: what it has is a bound, or an unfinished bracket.

@@ -92,12 +92,12 @@ struct GrowthLimit {
   int judged = 0;       // time steps judged
 };
 
-/// The largest relative excess of the states judged unstable, (rate - max(physical, 0)) /
-/// rate, in *fraction, and that state's index (-1 and NaN when none is smooth and unstable):
-/// the verdict is near the physics when
-/// it is at most kNearPhysicalFraction, since then the step reproduces each state's physical
-/// growth to that fraction, and the excess is as well explained by the estimates' error or the
-/// scheme's accuracy on a growing mode as by a step-size instability.
+/// The largest relative excess of the states judged unstable, (rate - max(physical, 0)) / rate,
+/// in *fraction, and that state's index (-1 and NaN when none is smooth and unstable). The
+/// verdict is near the physics when it is at most kNearPhysicalFraction: the step then
+/// reproduces each state's physical growth to that fraction, and the excess is as well explained
+/// by the estimates' error or the scheme's accuracy on a growing mode as by a step-size
+/// instability.
 int largest_excess(const std::vector<StateGrowth>& states, double* fraction);
 
 /// Judges dt for one engine configuration at every state.

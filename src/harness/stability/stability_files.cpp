@@ -4,6 +4,7 @@
 #include <limits>
 #include <utility>
 
+#include "cloth/model/constants.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/text_file.hpp"
@@ -16,8 +17,8 @@ namespace clothbench {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using cloth::kInf;
+using cloth::kNaN;
 
 std::string field(double v) {
   return std::isfinite(v) ? format_double(v) : std::string();

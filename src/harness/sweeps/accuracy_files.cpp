@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 
+#include "cloth/model/constants.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/io/user_error.hpp"
@@ -12,8 +13,8 @@ namespace clothbench {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using cloth::kInf;
+using cloth::kNaN;
 
 std::string optional_double(double v) {
   return std::isfinite(v) ? format_double(v) : "";

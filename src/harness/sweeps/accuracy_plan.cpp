@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "cloth/analysis/linear_stability.hpp"
+#include "cloth/model/constants.hpp"
 #include "cloth/model/integrator.hpp"
 #include "cloth/model/model.hpp"
 #include "harness/io/csv_writer.hpp"
@@ -21,7 +22,7 @@ namespace clothbench {
 
 namespace {
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
+using cloth::kInf;
 
 /// The time-step study's reference takes at most this fraction of rk4's predicted limit, so
 /// that its error-floor run at twice its step stays at half of it (a stretched, moving cloth is

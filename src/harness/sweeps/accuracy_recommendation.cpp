@@ -3,12 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include "cloth/model/constants.hpp"
 
 namespace clothbench {
 
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using cloth::kNaN;
 
 }  // namespace
 

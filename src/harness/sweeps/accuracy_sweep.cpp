@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <tuple>
 
+#include "cloth/model/constants.hpp"
 #include "cloth/model/model.hpp"
 #include "harness/io/csv_writer.hpp"
 #include "harness/io/text_file.hpp"
@@ -35,8 +36,8 @@ std::string without_budget(const std::string& toml) {
   return end == std::string::npos ? "" : toml.substr(end + 1);
 }
 
-constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+using cloth::kInf;
+using cloth::kNaN;
 
 double rms_distance(const cloth::Matrix3X& a, const cloth::Matrix3X& b) {
   return std::sqrt((a - b).colwise().squaredNorm().mean());

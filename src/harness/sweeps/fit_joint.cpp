@@ -12,7 +12,7 @@ namespace clothbench {
 namespace {
 
 /// Steps shorter than this in ln p (in every parameter, 1 %) have stalled.
-constexpr double kLogGap = 0.01;
+constexpr double kStalledLogStep = 0.01;
 
 /// The damping of the first step, relative to the diagonal of J^T J: nearly Gauss-Newton.
 constexpr double kFirstDamping = 1e-3;
@@ -21,7 +21,7 @@ constexpr double kFirstDamping = 1e-3;
 constexpr double kMaxDamping = 1e6;
 
 /// An evaluation in ln p: its metrics, residuals (units of tolerance) and their squared sum.
-struct Point {
+struct Evaluation {
   Eigen::VectorXd u, m, r;
   double cost = std::numeric_limits<double>::infinity();
   bool ok = false;    // every metric given
@@ -37,15 +37,15 @@ class JointSolver {
   JointFitResult solve();
 
  private:
-  Point run(const Eigen::VectorXd& u);
+  Evaluation run(const Eigen::VectorXd& u);
   double residual(int i, double m) const;
   double residual_slope(int i, double m) const;
   bool within(const Eigen::VectorXd& m) const;
-  void differences(const Point& x);
-  Eigen::VectorXd step(const Point& x, double damping) const;
-  void broyden(const Point& a, const Point& b);
-  void iterate(Point x);
-  std::string bound_note(const Point& x) const;
+  void differences(const Evaluation& x);
+  Eigen::VectorXd step(const Evaluation& x, double damping) const;
+  void broyden(const Evaluation& a, const Evaluation& b);
+  void iterate(Evaluation x);
+  std::string bound_note(const Evaluation& x) const;
   void finish(FitStatus status, const std::string& note);
   JointFitResult result() const;
 
@@ -56,7 +56,7 @@ class JointSolver {
   std::optional<FitStatus> m_stop;
   std::string m_note;
   std::vector<JointSample> m_samples;
-  Point m_best;                   // least cost, or the converged one
+  Evaluation m_best;              // least cost, or the converged one
   bool m_no_metric_seen = false;  // some evaluation gave no metric
 };
 
@@ -81,8 +81,8 @@ bool JointSolver::within(const Eigen::VectorXd& m) const {
 
 /// One evaluation at u (clamped to the ranges); stop is set when it converged or the budget
 /// is spent.
-Point JointSolver::run(const Eigen::VectorXd& u) {
-  Point x;
+Evaluation JointSolver::run(const Eigen::VectorXd& u) {
+  Evaluation x;
   x.u = u.cwiseMax(m_lo).cwiseMin(m_hi);
   const Eigen::VectorXd p = x.u.array().exp();
   // the ends exactly as given (exp(log(1000)) is not 1000)
@@ -112,7 +112,7 @@ Point JointSolver::run(const Eigen::VectorXd& u) {
 
 /// The Jacobian at x by forward differences, one evaluation per parameter (backwards at the
 /// top of a range or where forwards gives no metric; a zero column where neither does).
-void JointSolver::differences(const Point& x) {
+void JointSolver::differences(const Evaluation& x) {
   const Eigen::Index n = x.u.size();
   m_J.setZero(x.r.size(), n);
   for (Eigen::Index j = 0; j < n && !m_stop; ++j) {
@@ -121,7 +121,7 @@ void JointSolver::differences(const Point& x) {
       if (x.u[j] + h > m_hi[j] || x.u[j] + h < m_lo[j]) h = -h;
       Eigen::VectorXd u = x.u;
       u[j] += h;
-      const Point y = run(u);
+      const Evaluation y = run(u);
       if (m_stop) return;
       const double du = y.u[j] - x.u[j];
       if (y.ok && du != 0.0) {
@@ -135,7 +135,7 @@ void JointSolver::differences(const Point& x) {
 /// The damped Gauss-Newton step from x: (J^T J + damping diag(J^T J)) du = -J^T r over the
 /// parameters free to move (one at an end of its range pushing outwards is held), at most
 /// max_step in any parameter.
-Eigen::VectorXd JointSolver::step(const Point& x, double damping) const {
+Eigen::VectorXd JointSolver::step(const Evaluation& x, double damping) const {
   const Eigen::Index n = x.u.size();
   const Eigen::MatrixXd A = m_J.transpose() * m_J;
   const Eigen::VectorXd g = m_J.transpose() * x.r;
@@ -176,7 +176,7 @@ Eigen::VectorXd JointSolver::step(const Point& x, double damping) const {
 
 /// Broyden's update of J from a to b: the secant (r_b - r_a) along u_b - u_a holds, J is
 /// unchanged across it.
-void JointSolver::broyden(const Point& a, const Point& b) {
+void JointSolver::broyden(const Evaluation& a, const Evaluation& b) {
   const Eigen::VectorXd du = b.u - a.u;
   const double d2 = du.squaredNorm();
   if (!(d2 > 0.0)) return;
@@ -184,9 +184,10 @@ void JointSolver::broyden(const Point& a, const Point& b) {
 }
 
 /// Why the steps stalled at x: a parameter at an end of its range, or the targets' conflict.
-std::string JointSolver::bound_note(const Point& x) const {
+std::string JointSolver::bound_note(const Evaluation& x) const {
   for (Eigen::Index j = 0; j < x.u.size(); ++j) {
-    const bool top = x.u[j] >= m_hi[j] - kLogGap, bottom = x.u[j] <= m_lo[j] + kLogGap;
+    const bool top = x.u[j] >= m_hi[j] - kStalledLogStep,
+               bottom = x.u[j] <= m_lo[j] + kStalledLogStep;
     if (!top && !bottom) continue;
     const std::string name =
         size_t(j) < m_o.names.size() ? m_o.names[size_t(j)] : "parameter " + std::to_string(j);
@@ -198,12 +199,12 @@ std::string JointSolver::bound_note(const Point& x) const {
 }
 
 /// Damped steps from x until a stop (see the file comment).
-void JointSolver::iterate(Point x) {
+void JointSolver::iterate(Evaluation x) {
   double damping = kFirstDamping;
   bool fresh = true;  // J from differences at x, no Broyden update since
   while (!m_stop) {
     const Eigen::VectorXd du = step(x, damping);
-    if (du.cwiseAbs().maxCoeff() < kLogGap || damping > kMaxDamping) {
+    if (du.cwiseAbs().maxCoeff() < kStalledLogStep || damping > kMaxDamping) {
       // stalled: once more with a Jacobian from differences, then give up
       if (fresh) return finish(FitStatus::unreachable, bound_note(x));
       differences(x);
@@ -211,7 +212,7 @@ void JointSolver::iterate(Point x) {
       damping = kFirstDamping;
       continue;
     }
-    const Point y = run(x.u + du);
+    const Evaluation y = run(x.u + du);
     if (m_stop) return;
     if (y.ok) {
       broyden(x, y);
@@ -258,7 +259,7 @@ JointFitResult JointSolver::result() const {
 }
 
 JointFitResult JointSolver::solve() {
-  const Point x = run(m_o.start.array().log());
+  const Evaluation x = run(m_o.start.array().log());
   if (!m_stop && x.ok) {
     differences(x);
     if (!m_stop) iterate(x);

@@ -1,0 +1,14 @@
+#pragma once
+/// @file constants.hpp
+/// The numbers every part of clothbench spells the same way: pi, and the NaN and infinity that
+/// stand for "not measured" and "no limit".
+
+#include <limits>
+
+namespace cloth {
+
+inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
+}  // namespace cloth
