@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <iostream>
 #include <memory>
@@ -13,6 +12,7 @@
 
 #include "commands.hpp"
 #include "exit_codes.hpp"
+#include "format/number_format.hpp"
 #include "harness/io/output_lock.hpp"
 #include "harness/io/user_error.hpp"
 #include "harness/run/runner.hpp"
@@ -64,9 +64,7 @@ FitRange parse_range(const std::string& text) {
 
 /// v with 4 significant digits, for the terminal (fit.csv has every digit).
 std::string short_number(double v) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.4g", v);
-  return text;
+  return cloth::significant(v, 4);
 }
 
 /// One line per row: what each engine reached, and why a fit stopped short.

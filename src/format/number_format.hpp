@@ -15,4 +15,8 @@ std::string shortest_decimal(double x);
 /// ("20000.0"), and "nan", "inf", "-inf".
 std::string toml_double(double x);
 
+/// x to `digits` significant digits (printf's %g: "0.0123", "1.235e+04", "nan", "inf"), for
+/// what a person reads on the terminal or in a note; the files keep every digit.
+std::string significant(double x, int digits);
+
 }  // namespace cloth

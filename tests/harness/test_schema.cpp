@@ -10,6 +10,7 @@
 #include <tuple>
 #include <vector>
 
+#include "format/number_format.hpp"
 #include "harness/io/output_schema.hpp"
 #include "harness/scenario/engine_kind.hpp"
 #include "harness/scenario/scenario_error.hpp"
@@ -245,4 +246,13 @@ TEST_CASE("schema: both tables are deterministic Markdown", "[schema]") {
       CHECK(*c.meaning);
     }
   }
+}
+
+TEST_CASE("numbers for a reader keep the significant digits asked for", "[format]") {
+  CHECK(cloth::significant(12345.678, 4) == "1.235e+04");
+  CHECK(cloth::significant(0.0123456, 3) == "0.0123");
+  CHECK(cloth::significant(2.0, 6) == "2");
+  CHECK(cloth::significant(-0.5, 4) == "-0.5");
+  CHECK(cloth::significant(std::numeric_limits<double>::quiet_NaN(), 4) == "nan");
+  CHECK(cloth::significant(-std::numeric_limits<double>::infinity(), 4) == "-inf");
 }

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
+#include "format/number_format.hpp"
 #include "harness/gate/welch_test.hpp"
 #include "harness/io/csv_reader.hpp"
 #include "harness/io/csv_writer.hpp"
@@ -21,9 +21,7 @@ bool all_nan(const std::vector<double>& v) {
 }  // namespace
 
 std::string note_number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.4g", v);
-  return b;
+  return cloth::significant(v, 4);
 }
 
 Gate ensemble_gate(const std::string& scenario, const std::string& engine,

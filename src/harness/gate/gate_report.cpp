@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <sstream>
 
+#include "format/number_format.hpp"
 #include "harness/io/csv_writer.hpp"
 
 namespace clothbench {
@@ -63,9 +64,7 @@ std::string json_number(double v) {
 }
 
 std::string short_number(double v) {
-  char b[32];
-  std::snprintf(b, sizeof b, "%.6g", v);
-  return b;
+  return cloth::significant(v, 6);
 }
 
 /// What a failed gate's <failure> says: the baseline, the value now and what was allowed.

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "format/number_format.hpp"
 #include "harness/gate/ensemble_gate.hpp"
 #include "harness/gate/ensemble_runs.hpp"
 #include "harness/gate/ensemble_size.hpp"
@@ -772,11 +773,7 @@ std::string format_gates(const std::vector<Gate>& gates) {
                 "engine", "quantity", "baseline", "now", "difference", "allowed", "verdict");
   o << line;
   for (const Gate& g : gates) {
-    auto num = [](double v) {
-      char b[32];
-      std::snprintf(b, sizeof b, "%.6g", v);
-      return std::string(b);
-    };
+    auto num = [](double v) { return cloth::significant(v, 6); };
     const std::string allowed = g.allowed_text.empty() ? num(g.allowed) : g.allowed_text;
     std::snprintf(line, sizeof line, "%-18s %-32s %-22s %14s %14s %11s %11s  %s\n",
                   g.scenario.c_str(), g.engine.c_str(), g.quantity.c_str(), num(g.baseline).c_str(),

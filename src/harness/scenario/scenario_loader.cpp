@@ -5,7 +5,6 @@
 #include <cctype>
 #include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -15,6 +14,7 @@
 
 #include "cloth/contact/self_contact.hpp"
 #include "cloth/model/model.hpp"
+#include "format/number_format.hpp"
 #include "harness/scenario/cloth_reader.hpp"
 #include "harness/scenario/embedded_seed_scenario.hpp"
 #include "harness/scenario/engine_refusal.hpp"
@@ -601,8 +601,7 @@ void refuse_thin_rest_shape(const Reader& r, const toml::table& root, const Scen
   p.thickness = s.scene.cloth.thickness;
   const auto pair = cloth::SelfContact(static_cast<int>(x0.cols()), tris, p).closest_violation(x0);
   if (!pair) return;
-  char apart[32];
-  std::snprintf(apart, sizeof apart, "%.3g", pair->distance);
+  const std::string apart = cloth::significant(pair->distance, 3);
   const toml::node* n = scene_node(root, "cloth.thickness");
   if (!n) n = scene_node(root, "cloth");
   r.fail(n ? n : &root, "cloth.thickness",

@@ -5,6 +5,7 @@
 #include <sstream>
 
 #include "cloth/model/integrator.hpp"
+#include "format/number_format.hpp"
 #include "harness/sweeps/accuracy_recommendation.hpp"
 
 namespace clothbench {
@@ -13,9 +14,7 @@ namespace {
 
 std::string short_double(double v) {
   if (!std::isfinite(v)) return v > 0 ? "inf" : "-";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
+  return cloth::significant(v, 3);
 }
 
 std::string config_name(const AccuracyRow& r) {
