@@ -1,7 +1,7 @@
 #pragma once
 /// @file constants.hpp
-/// The numbers every part of clothbench spells the same way: pi, and the NaN and infinity that
-/// stand for "not measured" and "no limit".
+/// Pi, and the NaN and infinity that stand for "not measured" and "no limit", for the files that
+/// name them as constants (one definition, not one per file).
 
 #include <limits>
 

@@ -8,6 +8,7 @@
 #include "cloth/contact/sphere_collision.hpp"
 #include "cloth/forces/energies.hpp"
 #include "cloth/forces/spring_forces.hpp"
+#include "cloth/model/constants.hpp"
 
 namespace clothbench {
 
@@ -170,15 +171,15 @@ double support_area(const std::vector<double>& disk_radii,
                     const std::vector<cloth::Sphere>& spheres, bool horizontal,
                     const std::vector<cloth::Cylinder>& cylinders) {
   double a = 0.0;
-  for (double r : disk_radii) a += M_PI * r * r;
+  for (double r : disk_radii) a += cloth::kPi * r * r;
   if (a > 0 || !horizontal) return a;
   // a cylinder's top (the Cusick disk) is the support when there is one
   for (const cloth::Cylinder& c : cylinders)
-    if (!c.moves()) a += M_PI * c.radius * c.radius;
+    if (!c.moves()) a += cloth::kPi * c.radius * c.radius;
   if (a > 0) return a;
   // a sphere is a support only while it stays put under the cloth
   for (const cloth::Sphere& s : spheres)
-    if (!s.moves()) a += M_PI * s.radius * s.radius;
+    if (!s.moves()) a += cloth::kPi * s.radius * s.radius;
   return a;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 
+#include "cloth/model/constants.hpp"
 #include "cloth/model/model.hpp"
 #include "harness/fabric/elastica.hpp"
 
@@ -37,7 +38,7 @@ std::optional<std::string> unmeasurable_target(const std::string& metric, double
     c = std::cbrt((target + tolerance) / weight);
   }
   if (!(c < c_min)) return std::nullopt;
-  const double chord = elastica_chord_angle(kMaxElasticaLambda) * 180.0 / M_PI;
+  const double chord = elastica_chord_angle(kMaxElasticaLambda) * 180.0 / cloth::kPi;
   const double c_target = metric == "bending_length" ? target : std::cbrt(target / weight);
   char text[512];
   std::snprintf(text, sizeof text,
