@@ -110,6 +110,7 @@ TEST_CASE("growth of one spring equals the spectral radius of the closed-form st
                           << g.eigenvalue << " closed form " << expected << ", products "
                           << g.products);
   CHECK(g.converged);
+  CHECK(g.residual <= GrowthOptions{}.rel_tol * g.rho);
   CHECK(g.smooth);
   CHECK(g.rho == Approx(std::abs(expected)).epsilon(tol::kGrowthLinearRelative));
   CHECK(std::abs(g.eigenvalue - expected) <= tol::kGrowthLinearRelative * std::abs(expected));

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 #include "cloth/analysis/linear_stability.hpp"
@@ -137,10 +138,12 @@ TEST_CASE("a limit set by contact is labelled so", "[.][growth-sweep]") {
   CHECK(r.growth.cause.find("; near the physics:") != std::string::npos);
 }
 
-// the fabric example at 32 per side (about 10 s in a release build): its flat start grows at
-// nearly the same rate in steps of dt as of dt / 8, and the search stops far below the limit
-// the prediction and the blow-up search agree on (docs/methods.md); the row must say so
-TEST_CASE("a growth limit decided near the physical rate is labelled so", "[.][growth-sweep]") {
+// the fabric example at 32 per side (about 10 s in a release build): at its flat start the
+// free bending modes' Jordan blocks leave Arnoldi unconverged after its 120 products, with Ritz
+// values above 1 by less than their error in both the one-step and the physical map (1.0078 and
+// 1.0069 at 0.234 ms, residuals 0.03); counted at their point values they made the search stop
+// at 0.55 of the limit the prediction and the blow-up search agree on (docs/methods.md)
+TEST_CASE("an unconverged estimate counts only the growth its error allows", "[.][growth-sweep]") {
   test::TempDir dir("growth-fabric");
   const Scenario sc = load_scenario(CLOTHBENCH_SOURCE_DIR "/examples/large_steps/fabric_128.toml",
                                     {"cloth.particles=[32,32]"});
@@ -149,11 +152,33 @@ TEST_CASE("a growth limit decided near the physical rate is labelled so", "[.][g
   o.integrators = {cloth::Integrator::symplectic_euler};
   const StabilityRow r = run_stability(sc, o)[0];
   INFO(r.growth.cause << "; growth " << r.growth.stable_dt << ", predicted " << r.predicted_dt);
+  REQUIRE(std::isfinite(r.growth.stable_dt));
   REQUIRE(std::isfinite(r.growth.first_unstable_dt));
-  CHECK(r.growth.first_unstable_dt < 0.7 * r.predicted_dt);
-  CHECK(r.growth.cause.find("; near the physics:") != std::string::npos);
-  CHECK(r.growth.growth_rate - r.growth.physical_rate <=
+  CHECK(std::abs(r.growth.stable_dt / r.predicted_dt - 1) <= tol::kGrowthLimitGoal);
+  // a step-size instability: the step grows far faster than the physics
+  CHECK(r.growth.cause.find("near the physics") == std::string::npos);
+  CHECK(r.growth.growth_rate - r.growth.physical_rate >
         kNearPhysicalFraction * r.growth.growth_rate);
+}
+
+TEST_CASE("the rate a growth verdict counts is the low end of an unconverged estimate's error",
+          "[stability][growth]") {
+  cloth::GrowthEstimate e;
+  e.rho = 1.01;
+  e.rate = std::log(e.rho) / 0.001;
+  e.residual = 1e-6;  // error sqrt(1e-6) = 1e-3
+  e.converged = true;
+  CHECK(lower_rate(e, 0.001) == e.rate);
+  e.converged = false;
+  CHECK(lower_rate(e, 0.001) == Approx(std::log(1.009) / 0.001).epsilon(1e-12));
+  CHECK(lower_rate(e, 0.001, 4) == Approx(std::log(1.009) / 0.004).epsilon(1e-12));
+  // an error wider than the Ritz value: nothing is shown to grow
+  e.residual = 1.1 * 1.1;
+  CHECK(lower_rate(e, 0.001) == -std::numeric_limits<double>::infinity());
+  // a map that overflowed grows without a measurable bound
+  e.rho = e.rate = std::numeric_limits<double>::infinity();
+  e.residual = std::numeric_limits<double>::quiet_NaN();
+  CHECK(lower_rate(e, 0.001) == std::numeric_limits<double>::infinity());
 }
 
 TEST_CASE("estimates stopped once decided give the same limit in fewer steps",

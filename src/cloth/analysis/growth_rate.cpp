@@ -271,6 +271,7 @@ GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int
     return out;
   }
   out.eigenvalue = dominant(h.topLeftCorner(m, m), &z);
+  out.residual = m > 0 ? h(m, m - 1) * std::abs(z[m - 1]) / z.norm() : out.residual;
   out.rho = std::abs(out.eigenvalue);
   out.rate = std::log(out.rho) / (steps * dt);
   write_mode(map, q.leftCols(m), z, out);

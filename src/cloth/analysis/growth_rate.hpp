@@ -80,11 +80,14 @@ struct GrowthEstimate {
   Matrix3X mode;                 // 3 by #P position part of the dominant mode (real part,
                                  // largest entry 1 in modulus; 0 on held axes)
   Matrix3X mode_velocity;        // 3 by #P velocity part, scaled alike
-  int iterations = 0;            // Krylov steps made
-  int products = 0;              // maps evaluated (each `steps` steps of the engine)
-  bool converged = false;        // the residual met rel_tol within max_iterations
-  int decided = 0;               // -1: stopped early, rho decided below decide_below; +1: above
-                                 // decide_above; 0: ran to rel_tol or max_iterations
+  /// |J y - theta y| of the dominant Ritz pair (|y| = 1) when the estimate stopped (NaN: no
+  /// Krylov step made)
+  double residual = std::numeric_limits<double>::quiet_NaN();
+  int iterations = 0;      // Krylov steps made
+  int products = 0;        // maps evaluated (each `steps` steps of the engine)
+  bool converged = false;  // the residual met rel_tol within max_iterations
+  int decided = 0;         // -1: stopped early, rho decided below decide_below; +1: above
+                           // decide_above; 0: ran to rel_tol or max_iterations
 };
 
 /// Which side of the thresholds the dominant Ritz value theta (residual |J y - theta y| with

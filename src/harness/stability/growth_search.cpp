@@ -41,11 +41,12 @@ cloth::GrowthEstimate physical_growth(const Scenario& sc, const EngineSpec& e,
   return phys;
 }
 
-/// The growth at one state: the one-step map, then (when it grows faster than the tolerance)
-/// the physical map in sub-steps. Each estimate stops as soon as its side of the verdict's
-/// threshold is decided (cloth::GrowthOptions::decide_below): the one-step map's once it is
-/// below the tolerance (above it, its rate is the next threshold and is measured in full), the
-/// physical map's once it is on either side of sigma(dt) - growth_tol.
+/// The growth at one state: the one-step map, then (when its guaranteed rate, lower_rate, is
+/// past the tolerance) the physical map in sub-steps. Each estimate stops as soon as its side
+/// of the verdict's threshold is decided (cloth::GrowthOptions::decide_below): the one-step
+/// map's once it is below the tolerance (above it, its rate is the next threshold and is
+/// measured in full), the physical map's once it is on either side of
+/// sigma_low(dt) - growth_tol.
 StateGrowth judge_state(const Scenario& sc, const EngineSpec& e, const cloth::Model& model,
                         const GrowthState& s, double dt, const GrowthSearchOptions& o,
                         long long* steps) {
@@ -61,11 +62,13 @@ StateGrowth judge_state(const Scenario& sc, const EngineSpec& e, const cloth::Mo
   g.smooth = g.estimate.smooth;
   g.nonsmooth_reason = g.estimate.nonsmooth_reason;
   g.rate = g.estimate.rate;
-  if (!g.smooth || !(g.rate > o.growth_tol)) return g;
+  g.lower_rate = lower_rate(g.estimate, dt);
+  if (!g.smooth || !(g.lower_rate > o.growth_tol)) return g;
   if (interrupt_requested()) throw Interrupted();
 
-  // the physical growth over the same time: unstable when below sigma(dt) - growth_tol (> 0)
-  if (o.decide_early) go.decide_below = go.decide_above = std::exp((g.rate - o.growth_tol) * dt);
+  // the physical growth over the same time: unstable when below sigma_low(dt) - growth_tol
+  if (o.decide_early)
+    go.decide_below = go.decide_above = std::exp((g.lower_rate - o.growth_tol) * dt);
   const cloth::GrowthEstimate phys = physical_growth(sc, e, model, s, dt, go, steps);
   g.physical_decided = phys.decided != 0;
   if (!phys.smooth) {
@@ -75,7 +78,7 @@ StateGrowth judge_state(const Scenario& sc, const EngineSpec& e, const cloth::Mo
     return g;
   }
   g.physical_rate = phys.rate;
-  g.unstable = g.rate - std::max(g.physical_rate, 0.0) > o.growth_tol;
+  g.unstable = g.lower_rate - std::max(g.physical_rate, 0.0) > o.growth_tol;
   return g;
 }
 
@@ -281,6 +284,12 @@ class GrowthSearch {
 };
 
 }  // namespace
+
+double lower_rate(const cloth::GrowthEstimate& e, double dt, int steps) {
+  if (e.converged || !std::isfinite(e.rho) || !std::isfinite(e.residual)) return e.rate;
+  const double low = e.rho - std::sqrt(e.residual);
+  return low > 0 ? std::log(low) / (steps * dt) : -std::numeric_limits<double>::infinity();
+}
 
 int largest_excess(const std::vector<StateGrowth>& states, double* fraction) {
   int worst = -1;
