@@ -29,6 +29,7 @@ struct CheckArgs {
   std::vector<std::string> paths;  // empty: every shipped scenario
   bool quiet = false;
   std::string junit_path, json_path;  // --junit, --json ("" : not written)
+  bool no_ensemble = false;           // --no-ensemble: the ensembles' rows shown, not gated
   CheckOptions options;
 };
 
@@ -80,6 +81,7 @@ void refuse_duplicate_scenarios(const CheckArgs& a) {
 int execute_check(CheckArgs a) {
   CheckOptions& o = a.options;
   o.progress = !a.quiet;
+  o.ensemble = !a.no_ensemble;
   if (a.paths.empty()) a.paths = shipped_scenarios();
   refuse_duplicate_scenarios(a);
   // --update writes the baselines: one command at a time
@@ -148,10 +150,15 @@ Command add_check_command(CLI::App& app) {
   junit->excludes(update), json->excludes(update);
   check->add_option("--jobs,-j", o.jobs, "threads for the stability searches and ensembles")
       ->check(positive_integer());
-  check->add_flag("--ensemble", o.ensemble,
-                  "run the ensembles of the rows tolerances.toml gates by ensemble "
-                  "([ensemble.<engine>]) and gate their means by Welch's t-test (without it "
-                  "they are shown, not gated; --update always records them)");
+  auto* ensemble = check->add_flag(
+      "--ensemble", o.ensemble,
+      "run the ensembles of the rows tolerances.toml gates by ensemble ([ensemble.<engine>]) "
+      "and gate their means by Welch's t-test (the default)");
+  check
+      ->add_flag("--no-ensemble", a->no_ensemble,
+                 "show the rows gated by ensemble without running their ensembles or gating "
+                 "them, a quicker pass (--update records them all the same)")
+      ->excludes(ensemble);
   check->add_option("--ensemble-seed", o.ensemble_seed,
                     "seed of the ensemble members' perturbations (default 0: the recorded "
                     "members; another seed draws new ones, to measure the false-alarm rate)");

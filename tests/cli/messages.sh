@@ -53,6 +53,22 @@ has stderr "hanging_chain/metrics.csv:$(wc -l <"$metrics"): a second row for cus
 expect 0 "$clothbench" check -q --update --record-perturbed -b "$work/damaged" "$chain" --set duration=0.2
 expect 0 "$clothbench" check -q -b "$work/damaged" "$chain" --set duration=0.2
 
+# a row gated by an ensemble: check runs the ensemble and gates it by default, --no-ensemble
+# shows the row without gating it (and says so)
+cat >>"$work/damaged/hanging_chain/tolerances.toml" <<'TOML'
+[ensemble.custom-symplectic-euler]
+members = 3
+quantities = ["final_com_y"]
+reason = "a check of the command line's default"
+TOML
+expect 0 "$clothbench" check -q --update --record-perturbed -b "$work/damaged" "$chain" --set duration=0.2
+expect 0 "$clothbench" check -q -b "$work/damaged" "$chain" --set duration=0.2
+has stdout "custom-symplectic-euler .*final_com_y .*ensemble of 3" "an ensemble row gated by default"
+lacks stdout "not run (--no-ensemble)" "an ensemble row gated by default"
+expect 0 "$clothbench" check -q --no-ensemble -b "$work/damaged" "$chain" --set duration=0.2
+has stdout "final_com_y .*gated by its ensemble, not run (--no-ensemble)" \
+  "an ensemble row with --no-ensemble"
+
 # out of memory: a cloth that cannot fit under a 1 GiB address-space limit (not under a
 # sanitizer, which reserves far more address space than that on its own)
 if ldd "$clothbench" 2>/dev/null | grep -q libasan; then

@@ -265,7 +265,8 @@ TEST_CASE("check records an ensemble, gates it, and catches a damping change", "
   CHECK(recorded.at("custom-symplectic-euler/final_shape_rms")[0] == 0.0);
   CHECK(recorded.at("custom-symplectic-euler/growth_exponent").size() == 1);
   CHECK(recorded.count("custom-rk4/final_com_y") == 0);
-  // without --ensemble its rows are shown, not gated
+  // without its ensemble (CheckOptions::ensemble false, the command line's --no-ensemble) its
+  // rows are shown, not gated
   const auto plain =
       gates_of(check_scenario(scenario, o), "custom-symplectic-euler", "final_com_y");
   REQUIRE(plain.size() == 1);

@@ -194,7 +194,7 @@ bool in_ensemble(const Tolerances& tol, const std::string& engine, const std::st
   return it != tol.ensemble.end() && it->second.quantities.count(q);
 }
 
-const char* kEnsembleElsewhere = "gated by its ensemble (check --ensemble)";
+const char* kEnsembleElsewhere = "gated by its ensemble, not run (--no-ensemble)";
 
 void write_baseline(const fs::path& dir, const RunResult& result,
                     const std::vector<StabilityRow>* stability, const EnsembleValues& ensemble,

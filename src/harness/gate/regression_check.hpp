@@ -51,7 +51,8 @@ struct CheckOptions {
   bool progress = true;
   int jobs = 1;                          // threads for the stability searches and ensembles
   bool ensemble = false;                 // run the ensembles and gate their rows (without it
-                                         // they are shown, not gated; --update always runs them)
+                                         // they are shown, not gated; --update always runs them;
+                                         // the command line's default is true)
   unsigned long long ensemble_seed = 0;  // seed of the members' perturbations (0: the
                                          // recorded members)
   double max_run_seconds = 0;            // s per engine run before it stops as a timeout (0: none)

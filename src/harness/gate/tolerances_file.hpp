@@ -26,11 +26,11 @@
 /// The members: member 0 the scene, 1..N-1 perturbed at round-off level
 /// (run/ensemble_member.hpp). With detect, `check --update` chooses N from the members'
 /// measured spread (ensemble_runs.hpp, ensemble_size.hpp) and records it; with members = N it
-/// runs N. `check --update` records the N members' values (metrics_ensemble.csv); `check
-/// --ensemble` runs the same N members and gates each listed quantity's mean against the recorded
-/// mean by Welch's t-test at false-alarm rate 1e-3 per quantity, Bonferroni-divided over the
+/// runs N. `check --update` records the N members' values (metrics_ensemble.csv); `check`
+/// runs the same N members and gates each listed quantity's mean against the recorded mean by
+/// Welch's t-test at false-alarm rate 1e-3 per quantity, Bonferroni-divided over the
 /// scenario's ensemble rows (ensemble_gate.hpp). final_shape_rms is, per member, the RMS
-/// distance of its final shape from the recorded shape.csv (member 0's). Without --ensemble
+/// distance of its final shape from the recorded shape.csv (member 0's). With --no-ensemble
 /// these rows are shown, not gated. A quantity is either listed here or in [ungated.<engine>]
 /// or gated by its tolerance, never two of these.
 
