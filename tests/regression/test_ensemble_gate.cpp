@@ -179,6 +179,14 @@ TEST_CASE("a tolerance file's ensembles: N >= 2 whole members, known quantities"
     CHECK(t.ensemble.at("bullet").members == 8);
     CHECK(t.ensemble.at("bullet").quantities == std::set<std::string>{"final_com_y"});
   }
+  {
+    // a [test] metric, named test.<metric>, is a quantity an ensemble may gate
+    const ScratchFolder dir("clothbench-test-ensemble-");
+    const fs::path p = fs::path(dir.path()) / "tolerances.toml";
+    std::ofstream(p) << tolerance_text(table + "members = 8\nquantities = [\"test.folds\"]\n");
+    CHECK(read_tolerances(p).ensemble.at("bullet").quantities ==
+          std::set<std::string>{"test.folds"});
+  }
   // one member, a fraction, a string, none: refused on the members line (line 10 or 11)
   const std::string quantities = "quantities = [\"final_com_y\"]\n";
   for (const char* bad : {"members = 1\n", "members = 2.5\n", "members = \"eight\"\n",

@@ -45,13 +45,13 @@ TEST_CASE("test metrics gate: an unmoved metric passes, a moved one fails with i
   SECTION("within the tolerance on both metrics") {
     // 0.05 * 1.009 moves by 0.9 % of 1 % allowed; 41.04 by 0.04 of 0.05
     const TestValues now = {{"a", {{"bending_length", 0.05 * 1.009}, {"chord_angle", 41.04}}}};
-    const std::vector<Gate> gates = gate_test_metrics("s", base, now, kTol);
+    const std::vector<Gate> gates = gate_test_metrics("s", base, now, kTol, false);
     REQUIRE(gates.size() == 2);
     REQUIRE(all_pass(gates));
   }
   SECTION("bending_length moved by 1.1 % of an allowed 1 %") {
     const TestValues now = {{"a", {{"bending_length", 0.05 * 1.011}, {"chord_angle", 41.0}}}};
-    const std::vector<Gate> gates = gate_test_metrics("s", base, now, kTol);
+    const std::vector<Gate> gates = gate_test_metrics("s", base, now, kTol, false);
     const Gate& g = gate_of(gates, "a", "test.bending_length");
     REQUIRE_FALSE(g.pass);
     REQUIRE(g.note == "moved");
@@ -73,7 +73,7 @@ TEST_CASE("test metrics gate: undefined values, missing rows and metrics without
                            {"gone", {{"chord_angle", 40.0}}}};
   const TestValues now = {{"a", {{"bending_length", NAN}, {"chord_angle", NAN}, {"folds", 6.0}}},
                           {"new", {{"chord_angle", 40.0}}}};
-  const std::vector<Gate> gates = gate_test_metrics("s", base, now, kTol);
+  const std::vector<Gate> gates = gate_test_metrics("s", base, now, kTol, false);
   // undefined on both sides is the same result; on one side a change
   REQUIRE(gate_of(gates, "a", "test.bending_length").pass);
   REQUIRE_FALSE(gate_of(gates, "a", "test.chord_angle").pass);
@@ -89,9 +89,9 @@ TEST_CASE("test metrics gate: undefined values, missing rows and metrics without
     const TestValues b2 = {{"a", {{"chord_angle", 41.0}, {"folds", 6.0}}}};
     const TestValues n2 = {{"a", {{"chord_angle", 41.0}, {"tip_deflection", 0.02}}}};
     const TestValues b3 = {{"a", {{"chord_angle", 41.0}, {"tip_deflection", 0.02}}}};
-    const std::vector<Gate> g2 = gate_test_metrics("s", b2, n2, kTol);
+    const std::vector<Gate> g2 = gate_test_metrics("s", b2, n2, kTol, false);
     REQUIRE_THAT(gate_of(g2, "a", "test.folds").note, Contains("not measured"));
-    const std::vector<Gate> g3 = gate_test_metrics("s", b3, n2, kTol);
+    const std::vector<Gate> g3 = gate_test_metrics("s", b3, n2, kTol, false);
     REQUIRE_FALSE(gate_of(g3, "a", "test.tip_deflection").pass);
     REQUIRE_THAT(gate_of(g3, "a", "test.tip_deflection").note,
                  Contains("no tolerance") && Contains("[tests]"));
@@ -105,13 +105,34 @@ TEST_CASE("test metrics gate: a metric ungated for one engine is shown with its 
   t.ungated["chaotic"]["test.chord_angle"] = "contacts flip";
   const TestValues base = {{"chaotic", {{"chord_angle", 41.0}}}, {"a", {{"chord_angle", 41.0}}}};
   const TestValues now = {{"chaotic", {{"chord_angle", 45.0}}}, {"a", {{"chord_angle", 45.0}}}};
-  const std::vector<Gate> gates = gate_test_metrics("s", base, now, t);
+  const std::vector<Gate> gates = gate_test_metrics("s", base, now, t, false);
   const Gate& shown = gate_of(gates, "chaotic", "test.chord_angle");
   REQUIRE_FALSE(shown.gated);
   REQUIRE(shown.pass);
   REQUIRE_THAT(shown.note, Contains("not gated: contacts flip"));
   // the other engine's move is still gated
   REQUIRE_FALSE(gate_of(gates, "a", "test.chord_angle").pass);
+}
+
+TEST_CASE(
+    "test metrics gate: a metric an ensemble gates is left to it, or shown when it did not run",
+    "[regression]") {
+  Tolerances t = two_metrics();
+  t.ensemble["chaotic"].quantities = {"test.chord_angle"};
+  const TestValues base = {{"chaotic", {{"chord_angle", 41.0}}}, {"a", {{"chord_angle", 41.0}}}};
+  const TestValues now = {{"chaotic", {{"chord_angle", 45.0}}}, {"a", {{"chord_angle", 45.0}}}};
+  // the ensembles ran: the ensemble's gate is the metric's, none here
+  const std::vector<Gate> ran = gate_test_metrics("s", base, now, t, true);
+  for (const Gate& g : ran)
+    CHECK_FALSE((g.engine == "chaotic" && g.quantity == "test.chord_angle"));
+  // --no-ensemble: shown, not gated, and saying why
+  const std::vector<Gate> skipped = gate_test_metrics("s", base, now, t, false);
+  const Gate& shown = gate_of(skipped, "chaotic", "test.chord_angle");
+  CHECK_FALSE(shown.gated);
+  CHECK(shown.note == kEnsembleElsewhere);
+  // the other engine's move is still gated either way
+  CHECK_FALSE(gate_of(ran, "a", "test.chord_angle").pass);
+  CHECK_FALSE(gate_of(skipped, "a", "test.chord_angle").pass);
 }
 
 TEST_CASE("test metrics gate: a baseline tests.csv reads back what was written", "[regression]") {

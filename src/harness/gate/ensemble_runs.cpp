@@ -9,6 +9,8 @@
 #include "harness/gate/ensemble_size.hpp"
 #include "harness/gate/run_figures.hpp"
 #include "harness/gate/welch_test.hpp"
+#include "harness/io/user_error.hpp"
+#include "harness/run/engine_metric.hpp"
 #include "harness/run/run_parallel.hpp"
 
 namespace clothbench {
@@ -27,6 +29,7 @@ void EnsembleMembers::summarize(int member, const RunResult& r) {
     if (ends.size() != size_t(member)) continue;  // the reference of a member run, or a repeat
     End e;
     e.values = run_metrics(r, i);
+    for (const TestMetric& row : test_metrics(r, run)) e.values["test." + row.metric] = row.value;
     const auto it = m_shapes.find(run.spec.name);
     e.values["final_shape_rms"] =
         it == m_shapes.end() ? NAN : shape_rms(run.snapshots.back(), it->second);
@@ -84,7 +87,14 @@ EnsembleValues EnsembleMembers::values(const EnsembleSizes& sizes) const {
       throw std::logic_error("ensemble of " + engine + ": members asked for but not run");
     const std::vector<End>& ends = m_ends.at(engine);
     for (const std::string& q : e.quantities)
-      for (int m = 0; m < n; ++m) values[engine + "/" + q].push_back(ends[size_t(m)].values.at(q));
+      for (int m = 0; m < n; ++m) {
+        const std::map<std::string, double>& measured = ends[size_t(m)].values;
+        const auto it = measured.find(q);
+        if (it == measured.end())
+          throw UserError("tolerances.toml: ensemble." + engine + ": \"" + q +
+                          "\" is not measured in this scenario (a [test] metric it lacks?)");
+        values[engine + "/" + q].push_back(it->second);
+      }
     const End &a = ends[0], &b = ends[1];
     values[engine + "/growth_exponent"] = {
         growth_exponent(a.start, b.start, a.end, b.end, std::min(a.t_end, b.t_end))};

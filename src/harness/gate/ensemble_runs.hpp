@@ -56,7 +56,8 @@ class EnsembleMembers {
 
  private:
   struct End {
-    std::map<std::string, double> values;  // metrics.csv's quantities and final_shape_rms
+    std::map<std::string, double> values;  // metrics.csv's quantities, final_shape_rms and
+                                           // the [test]'s metrics (test.<metric>)
     cloth::Matrix3X start, end;            // first and last positions, 3 by #P
     double t_end = 0;                      // s, time of the last frame
   };

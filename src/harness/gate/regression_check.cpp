@@ -194,8 +194,6 @@ bool in_ensemble(const Tolerances& tol, const std::string& engine, const std::st
   return it != tol.ensemble.end() && it->second.quantities.count(q);
 }
 
-const char* kEnsembleElsewhere = "gated by its ensemble, not run (--no-ensemble)";
-
 void write_baseline(const fs::path& dir, const RunResult& result,
                     const std::vector<StabilityRow>* stability, const EnsembleValues& ensemble,
                     PendingBaselines& pending) {
@@ -745,8 +743,8 @@ std::vector<Gate> compare(const CheckPlan& plan, const CheckRun& now) {
   const fs::path tests_path = plan.dir / "tests.csv";
   const TestValues base_tests =
       fs::exists(tests_path) ? read_test_values(tests_path) : TestValues();
-  for (const Gate& g :
-       gate_test_metrics(plan.sc.name, base_tests, run_test_values(now.result), plan.tol))
+  for (const Gate& g : gate_test_metrics(plan.sc.name, base_tests, run_test_values(now.result),
+                                         plan.tol, ensembles_ran))
     gates.add(g);
   return std::move(gates.gates());
 }

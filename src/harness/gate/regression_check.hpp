@@ -75,6 +75,9 @@ struct Gate {
   bool gated = true;         // false: shown for the record, with the reason in note
 };
 
+/// The note of a row gated by its ensemble when the ensembles did not run (--no-ensemble).
+inline constexpr const char* kEnsembleElsewhere = "gated by its ensemble, not run (--no-ensemble)";
+
 /// Checks (or with update, records) one scenario file against its baseline folder.
 /// Throws std::invalid_argument for update with overrides unless record_perturbed is set (a
 /// perturbed baseline recorded by accident would hide the very change it should catch),

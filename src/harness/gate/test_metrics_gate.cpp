@@ -9,7 +9,8 @@
 namespace clothbench {
 
 std::vector<Gate> gate_test_metrics(const std::string& scenario, const TestValues& baseline,
-                                    const TestValues& now, const Tolerances& tolerances) {
+                                    const TestValues& now, const Tolerances& tolerances,
+                                    bool ensembles_ran) {
   std::vector<Gate> gates;
   auto fail = [&](const std::string& engine, const std::string& q, double b, double v,
                   const std::string& why) {
@@ -45,6 +46,14 @@ std::vector<Gate> gate_test_metrics(const std::string& scenario, const TestValue
       if (listed != tolerances.ungated.end() && listed->second.count(q)) {
         gates.push_back({scenario, engine, q, b, v, std::abs(v - b), NAN, true,
                          "not gated: " + listed->second.at(q), "-", false});
+        continue;
+      }
+      // gated by the engine's ensemble: its gate is the ensemble's, or it did not run
+      const auto ensemble = tolerances.ensemble.find(engine);
+      if (ensemble != tolerances.ensemble.end() && ensemble->second.quantities.count(q)) {
+        if (!ensembles_ran)
+          gates.push_back({scenario, engine, q, b, v, std::abs(v - b), NAN, true,
+                           kEnsembleElsewhere, "-", false});
         continue;
       }
       if (tol == tolerances.tests.end()) {

@@ -25,9 +25,12 @@ using TestValues = std::map<std::string, std::map<std::string, double>>;
 /// only ("not in the baseline", "recorded but not measured"), or when [tests] gives it no
 /// tolerance. An engine on one side only fails once, like a missing or extra engine of
 /// metrics.csv. Quantities are named "test." + the metric; one that tolerances lists in
-/// [ungated.<engine>] (as "test.<metric>") is shown with its reason, not gated.
+/// [ungated.<engine>] (as "test.<metric>") is shown with its reason, not gated; one an
+/// [ensemble.<engine>] lists is left to the ensemble's gate when ensembles_ran, else shown
+/// (kEnsembleElsewhere), not gated.
 std::vector<Gate> gate_test_metrics(const std::string& scenario, const TestValues& baseline,
-                                    const TestValues& now, const Tolerances& tolerances);
+                                    const TestValues& now, const Tolerances& tolerances,
+                                    bool ensembles_ran);
 
 /// Reads a baseline tests.csv (columns engine, metric, value); throws UserError naming the
 /// file and line for a malformed file or a row given twice.

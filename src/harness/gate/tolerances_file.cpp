@@ -104,6 +104,13 @@ void read_stability_table(const fs::path& p, const toml::table& s, Tolerances& t
     t.stability_integrators = integrators_at(p, s["integrators"], "stability.integrators");
 }
 
+/// Whether q names a quantity a tolerance file may list: one of known, or a [test] metric,
+/// test.<metric> (which metrics a scenario has, check knows).
+bool known_quantity(const std::string& q, const std::vector<std::string>& known) {
+  const bool test_metric = q.rfind("test.", 0) == 0 && q.size() > 5;
+  return test_metric || std::find(known.begin(), known.end(), q) != known.end();
+}
+
 /// [ungated.<engine>]: quantities not gated for that engine, with the reason.
 void read_ungated_table(const fs::path& p, const toml::table& u,
                         const std::vector<std::string>& known, Tolerances& t) {
@@ -117,9 +124,7 @@ void read_ungated_table(const fs::path& p, const toml::table& u,
     const std::string reason = (*e)["reason"].value_or(std::string());
     if (reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
     for (const std::string& q : strings_at(p, (*e)["quantities"], where + ".quantities")) {
-      // a [test] metric is named test.<metric>; which ones a scenario has, check knows
-      const bool test_metric = q.rfind("test.", 0) == 0 && q.size() > 5;
-      if (!test_metric && std::find(known.begin(), known.end(), q) == known.end())
+      if (!known_quantity(q, known))
         throw UserError(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
       t.ungated[engine][q] = reason;
     }
@@ -205,7 +210,7 @@ void read_ensemble_table(const fs::path& p, const toml::table& u,
     ens.reason = (*e)["reason"].value_or(std::string());
     if (ens.reason.empty()) throw UserError(p.string() + ": " + where + ": no reason");
     for (const std::string& q : strings_at(p, (*e)["quantities"], where + ".quantities")) {
-      if (std::find(known.begin(), known.end(), q) == known.end())
+      if (!known_quantity(q, known))
         throw UserError(p.string() + ": " + where + ": unknown quantity \"" + q + "\"");
       const auto u_it = t.ungated.find(engine);
       if (u_it != t.ungated.end() && u_it->second.count(q))

@@ -375,8 +375,9 @@ std::vector<OutputFile> baseline_files() {
            "with [ensemble.<engine>] tables), and per such engine its growth_exponent",
            {kEngine,
             {"quantity", "text",
-             "the ensemble-gated quantity; growth_exponent: ln(|dX(T)| / |dX(0)|) / T (1/s) "
-             "between members 0 and 1"},
+             "the ensemble-gated quantity (one of metrics.csv's, or a [test] metric as "
+             "test.<metric>); growth_exponent: ln(|dX(T)| / |dX(0)|) / T (1/s) between "
+             "members 0 and 1"},
             {"member", "count", "ensemble member, 0 the unperturbed scene"},
             {"value", "the quantity's", "the member's value"}}},
           {"baselines/tests.csv",
