@@ -145,6 +145,12 @@ std::complex<double> dominant(const MatrixXd& h, Eigen::VectorXcd* vector) {
   return values[best];
 }
 
+/// The residual |J y - theta y| of the Ritz pair with eigenvector z (y = Q z / |z|) of the
+/// m by m Hessenberg matrix h: h(m, m-1) |z_m| / |z|, which needs no product.
+double ritz_residual(const MatrixXd& h, Index m, const Eigen::VectorXcd& z) {
+  return h(m, m - 1) * std::abs(z[m - 1]) / z.norm();
+}
+
 /// The dominant Ritz vector q z mapped back to a 3 by #P mode, normalised so that its
 /// largest position entry (velocity entry, when the positions are all zero) is 1.
 void write_mode(const ScaledMap& map, const MatrixXd& q, const Eigen::VectorXcd& z,
@@ -248,7 +254,7 @@ GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int
     // a small Ritz value error needs a small residual, not a settled value)
     if (m < m_max && !invariant && m > 8 && m % 4 != 0) continue;
     out.eigenvalue = dominant(h.topLeftCorner(m, m), &z);
-    const double residual = h(m, m - 1) * std::abs(z[m - 1]) / z.norm();
+    const double residual = ritz_residual(h, m, z);
     if (invariant || (m >= 2 && residual <= o.rel_tol * std::abs(out.eigenvalue))) {
       out.converged = true;
       break;
@@ -271,7 +277,7 @@ GrowthEstimate estimate_growth(Simulator& sim, const MapState& s, double dt, int
     return out;
   }
   out.eigenvalue = dominant(h.topLeftCorner(m, m), &z);
-  out.residual = m > 0 ? h(m, m - 1) * std::abs(z[m - 1]) / z.norm() : out.residual;
+  if (m > 0) out.residual = ritz_residual(h, m, z);
   out.rho = std::abs(out.eigenvalue);
   out.rate = std::log(out.rho) / (steps * dt);
   write_mode(map, q.leftCols(m), z, out);
