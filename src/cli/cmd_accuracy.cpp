@@ -96,6 +96,14 @@ Command add_accuracy_command(CLI::App& app) {
           "error. Overall compares the engines' choices by that count when all are custom, and by\n"
           "wall time per simulated second when Bullet is among them (wall time stays in the CSV)")
       ->check(positive_number());
+  accuracy
+      ->add_option("--reference-dt", o.reference_dt,
+                   "the time-step study's rk4 reference step (s): at most the smallest swept dt\n"
+                   "and a quarter of rk4's predicted limit, dividing a frame (default: the\n"
+                   "smallest swept dt / 4, or the largest step within that quarter). A coarser\n"
+                   "reference is cheaper; its error floor in reference.csv says whether it is\n"
+                   "fine enough. The resolution study keeps its own reference")
+      ->check(positive_number());
   accuracy->add_option("--resolutions", a->resolutions_text,
                        "square grid sizes to compare at each engine's dt, e.g. 9,13,17,25,33");
   accuracy->add_option("--repeats", o.repeats, "wall time is the median of this many runs")

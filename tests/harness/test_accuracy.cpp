@@ -353,6 +353,38 @@ TEST_CASE("accuracy plan: a shard of a resolution study is refused by the plan",
   CHECK(!plan_accuracy(sc, o).configs.empty());
 }
 
+TEST_CASE("accuracy plan: a chosen reference step is taken as given or refused with its reason",
+          "[sweep]") {
+  TempDir dir("reference-dt");
+  const Scenario sc = stiff_implicit({});
+  AccuracyOptions o = quick_options(dir.str());
+  o.halvings = 2;  // swept: 0.02 s and 0.01 s
+  o.integrators = {cloth::Integrator::implicit_euler};
+  const double quarter = 0.25 * rk4_limit(sc);
+  const double automatic = plan_accuracy(sc, o).reference.dt;
+  // half the automatic step: within the quarter limit, dividing a frame, finer than 0.01 s
+  o.reference_dt = automatic / 2;
+  const AccuracyPlan plan = plan_accuracy(sc, o);
+  CHECK(plan.reference.dt == automatic / 2);
+  CHECK(plan.floor_run.spec.dt == automatic);
+  CHECK_THAT(plan.reference.description, Catch::Contains("(--reference-dt)"));
+  // past the quarter limit: rk4 there is no reference
+  const double steps = std::floor(sc.frame_interval / quarter);
+  REQUIRE(steps >= 1);
+  o.reference_dt = sc.frame_interval / steps;
+  REQUIRE(o.reference_dt > quarter);
+  CHECK_THROWS_WITH(plan_accuracy(sc, o), Catch::Contains("past a quarter of rk4's predicted"));
+  // coarser than the steps it judges
+  o.reference_dt = 0.02;
+  CHECK_THROWS_WITH(plan_accuracy(sc, o), Catch::Contains("at least as fine as the steps"));
+  // not a whole number of steps a frame: the message offers one that is
+  o.reference_dt = automatic * 0.7;
+  const double per_frame = sc.frame_interval / o.reference_dt;
+  REQUIRE(std::abs(per_frame - std::round(per_frame)) > 1e-3);
+  CHECK_THROWS_WITH(plan_accuracy(sc, o),
+                    Catch::Contains("does not divide frame_interval") && Catch::Contains("e.g."));
+}
+
 TEST_CASE("accuracy sweep: resume runs only the missing rows", "[sweep]") {
   TempDir dir("resume");
   const Scenario sc = parse_scenario(kSwing, "swing.toml");

@@ -202,8 +202,32 @@ double reference_dt(const Scenario& grid, double wanted, const std::string& want
          std::ceil(grid.frame_interval / (kReferenceLimitFraction * rk4_limit));
 }
 
+/// The user's --reference-dt, refused unless it is as fine as the finest swept step and
+/// within a quarter of rk4's predicted limit (past it rk4 is no reference).
+double chosen_reference_dt(const Scenario& sc, double dt, double smallest_dt) {
+  if (dt > smallest_dt * (1 + 1e-12))
+    throw UserError("--reference-dt " + format_double(dt) +
+                    ": a reference must be at least as fine as the steps it judges; the "
+                    "smallest swept dt is " +
+                    format_double(smallest_dt) + " s");
+  const double rk4_limit = cloth::predicted_stable_dt(
+      cloth::Integrator::rk4, cloth::linear_spectrum(cloth::build_model(sc.scene)));
+  if (dt > kReferenceLimitFraction * rk4_limit)
+    throw UserError("--reference-dt " + format_double(dt) +
+                    ": past a quarter of rk4's predicted limit " + format_double(rk4_limit) +
+                    " s on this scene; give at most " +
+                    format_double(kReferenceLimitFraction * rk4_limit) + " s");
+  const double steps = sc.frame_interval / dt;
+  if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
+    throw UserError("--reference-dt " + format_double(dt) + ": does not divide frame_interval = " +
+                    format_double(sc.frame_interval) + " s of " + sc.source + "; e.g. " +
+                    format_double(sc.frame_interval / std::ceil(steps)) + " s does");
+  return dt;
+}
+
 /// The time-step study's reference: the custom engine with rk4 well below every swept dt.
-void plan_reference(const Scenario& sc, double smallest_dt, AccuracyPlan& plan) {
+void plan_reference(const Scenario& sc, const AccuracyOptions& o, double smallest_dt,
+                    AccuracyPlan& plan) {
   const bool custom = reference_base(sc) != nullptr;
   std::string words;
   const EngineSpec base = reference_spec(sc, &words);
@@ -211,8 +235,13 @@ void plan_reference(const Scenario& sc, double smallest_dt, AccuracyPlan& plan) 
   ref.study = "dt";
   ref.engine = custom ? base.name : "";
   std::string why;
-  ref.dt = reference_dt(sc, smallest_dt / 4,
-                        "smallest swept dt " + format_double(smallest_dt) + " s / 4", &why);
+  if (o.reference_dt > 0) {
+    ref.dt = chosen_reference_dt(sc, o.reference_dt, smallest_dt);
+    why = "--reference-dt";
+  } else {
+    ref.dt = reference_dt(sc, smallest_dt / 4,
+                          "smallest swept dt " + format_double(smallest_dt) + " s / 4", &why);
+  }
   ref.nu = sc.scene.cloth.nu;
   ref.nv = sc.scene.cloth.nv;
   check_divides(sc, ref.dt, "the reference");
@@ -300,7 +329,7 @@ AccuracyPlan plan_accuracy(const Scenario& sc, const AccuracyOptions& o) {
   const double smallest_dt = plan_time_steps(sc, o, engines, integrators, plan);
   // the grids first: a grid the user cannot have is refused before any spectrum is computed
   plan_grids(sc, o, plan);
-  plan_reference(sc, smallest_dt, plan);
+  plan_reference(sc, o, smallest_dt, plan);
   if (!plan.grids.empty()) plan_resolutions(sc, engines, integrators, smallest_dt, plan);
   return plan;
 }

@@ -51,6 +51,9 @@ struct AccuracyOptions {
   int halvings = 4;              // time steps per engine: dt, dt/2, ..., dt/2^(halvings-1)
                                  // from the engine's scenario dt
   double tolerance = -1;         // m, > 0: recommend the cheapest config within it
+  double reference_dt = 0;       // s, > 0: the time-step study's rk4 reference step (at most
+                                 // the smallest swept dt and a quarter of rk4's predicted
+                                 // limit, dividing a frame); 0: chosen as below
   std::vector<int> resolutions;  // square grids r x r to compare; empty: none
   int repeats = 3;               // wall time is the median of this many runs
   int jobs = default_jobs();     // threads
@@ -63,7 +66,8 @@ struct AccuracyOptions {
 /// Runs the accuracy sweep of sc described by o and writes its files into o.out_dir.
 ///
 /// Time-step sweep: every selected engine (custom engines: every selected integrator) at each
-/// swept dt. The reference is the custom engine with rk4 at the smallest swept dt / 4 (which
+/// swept dt. The reference is the custom engine with rk4 at o.reference_dt when given, else
+/// at the smallest swept dt / 4 (which
 /// divides frame_interval whenever the swept dts do), or, where that is past a quarter of
 /// rk4's predicted limit (implicit engines at large steps), the largest step within it that
 /// divides frame_interval; its error floor is the RMS distance at
