@@ -72,6 +72,15 @@ for r in rows:
     assert abs(float(r["work_per_simulated_s"]) - work / 0.1) < 1e-9 * work / 0.1, r
 PY
 
+# --resume reads what finished: nothing runs again, and the tables are the same
+before=$(cat "$work/cost/large_steps_cost.csv" "$work/cost/large_steps_precision.csv")
+expect 0 "$script" --clothbench "$clothbench" --sizes 6,8 --set duration=0.1 --accuracy --resume \
+  --out "$work/cost"
+grep -q '^\$ .* run ' "$work/stdout" && fail "--resume ran a finished run again"
+grep -q '^\$ .* stability ' "$work/stdout" && fail "--resume ran a finished search again"
+[ "$before" = "$(cat "$work/cost/large_steps_cost.csv" "$work/cost/large_steps_precision.csv")" ] ||
+  fail "--resume changed the tables"
+
 # a step given for a size replaces its search: no stability folder, no limit in the table
 expect 0 "$script" --clothbench "$clothbench" --sizes 6 --set duration=0.1 \
   --explicit-dt 6=0.0016666666666666668 --out "$work/given"
