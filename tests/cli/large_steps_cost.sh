@@ -70,6 +70,8 @@ for r in rows:
     # counted work a simulated second: the run's over its 0.1 s
     work = int(w["force_evals"]) + 3 * int(w["cg_iterations"])
     assert abs(float(r["work_per_simulated_s"]) - work / 0.1) < 1e-9 * work / 0.1, r
+    n = int(r["particles_per_side"])
+    assert abs(float(r["particle_work_per_simulated_s"]) - work * n * n / 0.1) < 1e-9 * work * n * n / 0.1, r
 PY
 
 # --resume reads what finished: nothing runs again, and the tables are the same
