@@ -37,15 +37,16 @@ std::string grid_name(int nu, int nv) {
   return std::to_string(nu) + " x " + std::to_string(nv);
 }
 
-/// Throws unless dt divides the scenario's frame_interval (frames must land on steps).
-void check_divides(const Scenario& sc, double dt, const std::string& what) {
+/// Throws unless dt divides the scenario's frame_interval (frames must land on steps); hint
+/// closes the message, saying what to give instead.
+void check_divides(const Scenario& sc, double dt, const std::string& what,
+                   const std::string& hint = "every swept dt must: give --dts that divide it") {
   const double r = sc.frame_interval / dt;
   const double n = std::round(r);
   // std::invalid_argument, not UserError: the accuracy tests expect this type
   if (!(dt > 0) || !std::isfinite(r) || n < 1 || std::abs(r - n) > 1e-9 * r)
-    throw UserError(what + ": dt = " + format_double(dt) +
-                    " s does not divide frame_interval = " + format_double(sc.frame_interval) +
-                    " s of " + sc.source + " (every swept dt must: give --dts that divide it)");
+    throw UserError(what + ": dt = " + format_double(dt) + " s does not divide frame_interval = " +
+                    format_double(sc.frame_interval) + " s of " + sc.source + " (" + hint + ")");
   if (sc.duration / dt > kMaxSteps)
     throw UserError(what + ": dt = " + format_double(dt) + " s would take duration / dt = " +
                     format_double(sc.duration / dt) + " steps, more than " +
@@ -185,6 +186,12 @@ EngineSpec reference_spec(const Scenario& sc, std::string* words) {
   return spec;
 }
 
+/// rk4's predicted stability limit (s) on sc's scene.
+double rk4_predicted_limit(const Scenario& sc) {
+  return cloth::predicted_stable_dt(cloth::Integrator::rk4,
+                                    cloth::linear_spectrum(cloth::build_model(sc.scene)));
+}
+
 /// A reference's rk4 step on the grid of `grid`: `wanted`, or, when that is past
 /// kReferenceLimitFraction of rk4's predicted limit there (implicit engines at large steps),
 /// the largest step within it that divides a frame. *why says which, `wanted_words` naming
@@ -192,8 +199,7 @@ EngineSpec reference_spec(const Scenario& sc, std::string* words) {
 double reference_dt(const Scenario& grid, double wanted, const std::string& wanted_words,
                     std::string* why) {
   *why = wanted_words;
-  const double rk4_limit = cloth::predicted_stable_dt(
-      cloth::Integrator::rk4, cloth::linear_spectrum(cloth::build_model(grid.scene)));
+  const double rk4_limit = rk4_predicted_limit(grid);
   if (wanted <= kReferenceLimitFraction * rk4_limit) return wanted;
   *why = "within a quarter of rk4's predicted limit " + format_double(rk4_limit) +
          " s and dividing a frame; " + wanted_words + ", " + format_double(wanted) +
@@ -210,18 +216,15 @@ double chosen_reference_dt(const Scenario& sc, double dt, double smallest_dt) {
                     ": a reference must be at least as fine as the steps it judges; the "
                     "smallest swept dt is " +
                     format_double(smallest_dt) + " s");
-  const double rk4_limit = cloth::predicted_stable_dt(
-      cloth::Integrator::rk4, cloth::linear_spectrum(cloth::build_model(sc.scene)));
+  const double rk4_limit = rk4_predicted_limit(sc);
   if (dt > kReferenceLimitFraction * rk4_limit)
     throw UserError("--reference-dt " + format_double(dt) +
                     ": past a quarter of rk4's predicted limit " + format_double(rk4_limit) +
                     " s on this scene; give at most " +
                     format_double(kReferenceLimitFraction * rk4_limit) + " s");
-  const double steps = sc.frame_interval / dt;
-  if (std::abs(steps - std::round(steps)) > 1e-9 * steps)
-    throw UserError("--reference-dt " + format_double(dt) + ": does not divide frame_interval = " +
-                    format_double(sc.frame_interval) + " s of " + sc.source + "; e.g. " +
-                    format_double(sc.frame_interval / std::ceil(steps)) + " s does");
+  check_divides(
+      sc, dt, "--reference-dt",
+      "e.g. " + format_double(sc.frame_interval / std::ceil(sc.frame_interval / dt)) + " s does");
   return dt;
 }
 
